@@ -1,0 +1,40 @@
+"""User-facing errors: one type per kind, each message one line naming the culprit.
+
+The command line catches :class:`CrankbookError` once and prints its message.
+"""
+
+
+class CrankbookError(Exception):
+    """Base of every error a user can cause by what they ask for."""
+
+
+class UnknownPresetError(CrankbookError):
+    """A preset or workbook template name that does not exist."""
+
+
+class UnknownParameterError(CrankbookError):
+    """A ``--set`` key that is not a parameter of the workbook."""
+
+
+class ParameterValueError(CrankbookError):
+    """A parameter value that is not a number or breaks its own bounds."""
+
+
+class GeometryError(CrankbookError):
+    """Parameters that are each fine but together describe no mechanism."""
+
+
+class PressureFileError(CrankbookError):
+    """A measured pressure trace that cannot be read or does not cover the cycle."""
+
+
+class BuildOptionError(CrankbookError):
+    """A build option (grid step, output path, language) that cannot be used."""
+
+
+class WorkbookReadError(CrankbookError):
+    """A file that is not a readable workbook written by this tool."""
+
+
+class RecalculationError(CrankbookError):
+    """LibreOffice is missing or failed to recalculate a workbook."""

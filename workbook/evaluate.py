@@ -1,0 +1,66 @@
+"""Compute every quantity of a specification with its calc function (numpy).
+
+Values go in and come out in sheet units; calc functions see SI units.  This is
+the independent half of each quantity: the workbook's formulas are the other.
+"""
+import math
+
+import numpy as np
+
+from workbook import units
+from workbook.errors import BuildOptionError
+
+
+def crank_angle_grid(spec, step=None):
+    """The shared crank-angle grid start, start+step, …, stop [deg]."""
+    step = spec.grid_step if step is None else step
+    span = spec.grid_stop - spec.grid_start
+    if not (isinstance(step, (int, float)) and math.isfinite(step) and 0 < step <= span / 4):
+        raise BuildOptionError(f"--step {step!r}: the grid step must be a number > 0 and "
+                               f"≤ {span / 4:g}°")
+    count = round(span / step)
+    if abs(count * step - span) > 1e-9 * span:
+        raise BuildOptionError(f"--step {step:g}: the grid step must divide {span:g}° evenly")
+    return spec.grid_start + step * np.arange(count + 1)
+
+
+def evaluate(spec, values, tables, grid):
+    """Every quantity of ``spec`` in sheet units.
+
+    Parameters
+    ----------
+    values : dict
+        Parameter key -> value in its sheet unit.
+    tables : dict
+        Input-table column key -> 1-D array in its sheet unit (may be empty).
+    grid : numpy.ndarray
+        The crank-angle grid [deg].
+    """
+    si = {}
+
+    def si_value(key):
+        if key in si:
+            return si[key]
+        if key == spec.grid.key:
+            result = np.asarray(grid, dtype=float) * units.si_factor(spec.grid.unit)
+        elif key in spec.parameter:
+            result = float(values[key]) * units.si_factor(spec.parameter[key].unit)
+        elif key in spec.table_column:
+            result = np.asarray(tables.get(key, []), dtype=float) \
+                * units.si_factor(spec.table_column[key].unit)
+        else:
+            q = spec.quantity[key]
+            kwargs = {name: si_value(source) for name, source in q.calc_arguments().items()}
+            result = q.calc_function()(**kwargs)
+            if q.kind == "series":
+                result = np.broadcast_to(np.asarray(result, dtype=float), np.shape(grid))
+            else:
+                result = float(result)
+        si[key] = result
+        return result
+
+    out = {}
+    for q in spec.quantities():
+        value = si_value(q.key)
+        out[q.key] = value / units.si_factor(q.unit)
+    return out

@@ -1,0 +1,240 @@
+"""Workbook specifications: the TOML files in templates/ read into plain objects.
+
+A specification lists parameters (inputs, named p_<key>), input tables, input
+rules, derived scalars, sheets of series and cycle results (named q_<key>).
+Each computed quantity pairs an Excel formula template with a calc function; see
+the header of templates/engine.toml for the template syntax.
+"""
+import importlib
+import inspect
+import re
+import tomllib
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+
+from workbook import units
+from workbook.errors import UnknownPresetError
+
+TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
+REFERENCE = re.compile(r"\{([a-z_0-9]+)(?::(head|tail))?\}")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    key: str
+    unit: str
+    zh: str
+    en: str
+    group: str
+    default: float
+    kind: str = "number"          # "number" or "flag" (0 or 1)
+    min: float | None = None
+    max: float | None = None
+    min_open: bool = False
+    max_open: bool = False
+
+    def bounds_text(self):
+        """The rule in words, e.g. '> 0 and ≤ 5000 mm'."""
+        if self.kind == "flag":
+            return "0 or 1"
+        parts = []
+        if self.min is not None:
+            parts.append(f"{'>' if self.min_open else '≥'} {self.min:g}")
+        if self.max is not None:
+            parts.append(f"{'<' if self.max_open else '≤'} {self.max:g}")
+        unit = "" if self.unit == "-" else f" {self.unit}"
+        return " and ".join(parts) + unit
+
+
+@dataclass(frozen=True)
+class InputColumn:
+    key: str
+    unit: str
+    zh: str
+    en: str
+
+
+@dataclass(frozen=True)
+class InputTable:
+    key: str
+    sheet: str
+    capacity: int
+    columns: tuple
+
+
+@dataclass(frozen=True)
+class Rule:
+    key: str
+    fails: str          # Excel condition, true when the inputs break the rule
+    python: str         # the same condition as a Python expression
+    names: tuple        # parameters the rule is about, for the error message
+    zh: str
+    en: str
+
+
+@dataclass(frozen=True)
+class Quantity:
+    key: str
+    kind: str           # "scalar" (derived constant), "series" or "result"
+    unit: str
+    zh: str
+    en: str
+    formula: str | None
+    calc: str | None
+    args: dict = field(default_factory=dict)
+    sheet: str | None = None
+    summary: bool = False
+    format: str | None = None
+
+    def calc_function(self):
+        module, _, name = self.calc.rpartition(".")
+        return getattr(importlib.import_module(module), name)
+
+    def calc_arguments(self):
+        """Mapping of the calc function's argument names to quantity keys."""
+        names = inspect.signature(self.calc_function()).parameters
+        return {name: self.args.get(name, name) for name in names}
+
+    def references(self):
+        return [match.group(1) for match in REFERENCE.finditer(self.formula or "")]
+
+
+@dataclass(frozen=True)
+class Sheet:
+    key: str
+    zh: str
+    en: str
+    title_zh: str
+    title_en: str
+    axis_zh: str
+    axis_en: str
+    unit: str
+    chart: tuple
+    columns: tuple
+
+
+@dataclass
+class WorkbookSpec:
+    key: str
+    zh: str
+    en: str
+    grid: Quantity
+    grid_start: float
+    grid_stop: float
+    grid_step: float
+    groups: dict
+    parameters: list
+    input_tables: list
+    rules: list
+    scalars: list
+    sheets: list
+    results: list
+    summary: list = field(default_factory=list)
+
+    def __post_init__(self):
+        self.parameter = {p.key: p for p in self.parameters}
+        self.table_column = {c.key: c for t in self.input_tables for c in t.columns}
+        self.quantity = {q.key: q for q in self.quantities()}
+
+    def series(self):
+        return [self.grid] + [c for s in self.sheets for c in s.columns]
+
+    def quantities(self):
+        """Every computed quantity, grid first, in the order they are laid out."""
+        return self.series() + self.scalars + self.results + self.summary
+
+    def unit_of(self, key):
+        for table in (self.parameter, self.table_column, self.quantity):
+            if key in table:
+                return table[key].unit
+        raise KeyError(key)
+
+
+def _quantity(entry, kind, sheet=None):
+    return Quantity(key=entry["key"], kind=kind, unit=entry["unit"], zh=entry["zh"],
+                    en=entry["en"], formula=entry.get("formula"), calc=entry.get("calc"),
+                    args=dict(entry.get("args", {})), sheet=sheet,
+                    summary=entry.get("summary", False), format=entry.get("format"))
+
+
+def _summary_quantities(grid, series):
+    """Max/min of each summary series and the crank angle where it occurs."""
+    out = []
+    for q in series:
+        for stat, word_zh, word_en in (("max", "最大值", "maximum"), ("min", "最小值", "minimum")):
+            out.append(Quantity(
+                key=f"{q.key}_{stat}", kind="result", unit=q.unit,
+                zh=f"{q.zh} {word_zh}", en=f"{q.en} {word_en}",
+                formula=f"{stat.upper()}({{{q.key}}})", calc=f"calc.cycle.{word_en}",
+                args={"values": q.key}))
+            out.append(Quantity(
+                key=f"{q.key}_{stat}_angle", kind="result", unit=grid.unit,
+                zh=f"{q.zh} {word_zh}处曲轴转角", en=f"crank angle of {q.en} {word_en}",
+                formula=f"INDEX({{{grid.key}}},MATCH({{{q.key}_{stat}}},{{{q.key}}},0))",
+                calc=f"calc.cycle.angle_of_{word_en}",
+                args={"crank_angle": grid.key, "values": q.key}))
+    return out
+
+
+@lru_cache(maxsize=None)
+def load(name):
+    """The workbook specification templates/<name>.toml."""
+    path = TEMPLATES / f"{name}.toml"
+    if not path.is_file():
+        raise UnknownPresetError(f"workbook template {name!r} does not exist in {TEMPLATES}")
+    with open(path, "rb") as handle:
+        data = tomllib.load(handle)
+    head = data["workbook"]
+    grid = Quantity(key=head["grid"], kind="series", unit="deg", zh="曲轴转角 α",
+                    en="Crank angle α", formula=None, calc=None, format="0.0")
+    parameters = [Parameter(**p) for p in data["parameter"]]
+    tables = [InputTable(key=t["key"], sheet=t["sheet"], capacity=t["capacity"],
+                         columns=tuple(InputColumn(**c) for c in t["column"]))
+              for t in data.get("input_table", [])]
+    rules = [Rule(key=r["key"], fails=r["fails"], python=r["python"], names=tuple(r["names"]),
+                  zh=r["zh"], en=r["en"]) for r in data.get("rule", [])]
+    sheets = []
+    for s in data["sheet"]:
+        columns = tuple(_quantity(c, "series", sheet=s["key"]) for c in s["column"])
+        sheets.append(Sheet(key=s["key"], zh=s["zh"], en=s["en"], title_zh=s["title_zh"],
+                            title_en=s["title_en"], axis_zh=s["axis_zh"], axis_en=s["axis_en"],
+                            unit=s["unit"], chart=tuple(s["chart"]), columns=columns))
+    series = [c for s in sheets for c in s.columns if c.summary]
+    spec = WorkbookSpec(
+        key=head["key"], zh=head["zh"], en=head["en"], grid=grid,
+        grid_start=head["grid_start"], grid_stop=head["grid_stop"], grid_step=head["grid_step"],
+        groups=data.get("groups", {}), parameters=parameters, input_tables=tables, rules=rules,
+        scalars=[_quantity(q, "scalar") for q in data.get("scalar", [])], sheets=sheets,
+        results=[_quantity(q, "result") for q in data.get("result", [])],
+        summary=_summary_quantities(grid, series))
+    check(spec)
+    return spec
+
+
+def check(spec):
+    """Fail loudly on a specification that references what it does not define."""
+    known = set(spec.parameter) | set(spec.table_column) | set(spec.quantity)
+    seen = set()
+    for key in [p.key for p in spec.parameters] + list(spec.table_column) + \
+            [q.key for q in spec.quantities()]:
+        if key in seen:
+            raise ValueError(f"{spec.key}: key {key!r} is defined twice")
+        seen.add(key)
+    for q in spec.quantities():
+        if q is spec.grid:
+            continue
+        for ref in q.references():
+            if ref not in known:
+                raise ValueError(f"{spec.key}: formula of {q.key!r} refers to unknown {ref!r}")
+        for name, source in q.calc_arguments().items():
+            if source not in known:
+                raise ValueError(f"{spec.key}: calc {q.calc} argument {name!r} maps to "
+                                 f"unknown {source!r}")
+        if not units.known(q.unit):
+            raise ValueError(f"{spec.key}: unit {q.unit!r} of {q.key!r} is not in units.toml")
+    for s in spec.sheets:
+        for key in s.chart:
+            if key not in spec.quantity or spec.quantity[key].kind != "series":
+                raise ValueError(f"{spec.key}: chart of sheet {s.key!r} lists {key!r}, "
+                                 f"not a series")

@@ -1,0 +1,87 @@
+"""A quantity sheet: crank-angle column, formula columns, input tables and a chart."""
+import math
+
+from xlsxwriter.utility import xl_rowcol_to_cell
+
+from workbook.formulas import ROW, quote_sheet
+from workbook.writer.charts import add_quantity_chart
+from workbook.writer.layout import FIRST_ROW, label, unit_text
+
+COLUMN_WIDTH = 15
+
+
+def cached(value):
+    """The cached result xlsxwriter stores: a number, or '' where numpy gives NaN."""
+    value = float(value)
+    return "" if math.isnan(value) else value
+
+
+def _headers(ws, col, item, unit, layout, styles, width=COLUMN_WIDTH):
+    ws.write(FIRST_ROW - 3, col, label(item, layout.lang), styles.header)
+    ws.write(FIRST_ROW - 2, col, label(item, layout.other), styles.header_other)
+    ws.write(FIRST_ROW - 1, col, f"[{unit_text(unit)}]", styles.unit)
+    ws.set_column(col, col, width)
+
+
+def write_series_sheet(book, sheet_spec, layout, results, grid, styles):
+    spec, locator = layout.spec, layout.locator
+    name = layout.sheet_name[sheet_spec.key]
+    ws = book.add_worksheet(name)
+    ws.write(0, 0, label(sheet_spec, layout.lang, "title_"), styles.title)
+    ws.write(1, 0, label(sheet_spec, layout.other, "title_"), styles.subtitle)
+    ws.set_row(FIRST_ROW - 3, 42)
+    ws.set_row(FIRST_ROW - 2, 42)
+    ws.freeze_panes(FIRST_ROW, 1)
+
+    # The crank-angle column: numbers on the master sheet, references elsewhere.
+    grid_q = spec.grid
+    _headers(ws, 0, grid_q, grid_q.unit, layout, styles, width=11)
+    angle_format = styles.number(grid_q.unit, grid_q.format)
+    if sheet_spec.key == layout.master:
+        for i, angle in enumerate(grid):
+            ws.write_number(FIRST_ROW + i, 0, float(angle), angle_format)
+    else:
+        master = quote_sheet(layout.sheet_name[layout.master])
+        for i, angle in enumerate(grid):
+            row = FIRST_ROW + i + 1
+            ws.write_formula(FIRST_ROW + i, 0, f"={master}!$A{row}", angle_format, float(angle))
+
+    for col, quantity in enumerate(sheet_spec.columns, start=1):
+        _headers(ws, col, quantity, quantity.unit, layout, styles)
+        template = locator.series_formula(quantity.formula, name)
+        fmt = styles.number(quantity.unit, quantity.format)
+        values = results[quantity.key]
+        for i in range(len(grid)):
+            row = FIRST_ROW + i
+            ws.write_formula(row, col, template.replace(ROW, str(row + 1)), fmt,
+                             cached(values[i]))
+
+    for table in layout.tables_on(sheet_spec.key):
+        _write_input_table(ws, table, layout, results, styles)
+
+    x_range = f"{quote_sheet(name)}!$A${FIRST_ROW + 1}:$A${layout.last_row + 1}"
+    chart = add_quantity_chart(book, sheet_spec, layout, x_range)
+    chart_col = len(sheet_spec.columns) + 2
+    for table in layout.tables_on(sheet_spec.key):
+        chart_col = max(chart_col, layout.table_start[table.key] + len(table.columns) + 1)
+    ws.insert_chart(FIRST_ROW - 3, chart_col, chart, {"x_offset": 10})
+    return ws
+
+
+def _write_input_table(ws, table, layout, results, styles):
+    """Editable input columns (e.g. a measured trace), named p_<key> over the capacity."""
+    name = layout.sheet_name[table.sheet]
+    start = layout.table_start[table.key]
+    for offset, column in enumerate(table.columns):
+        col = start + offset
+        _headers(ws, col, column, column.unit, layout, styles)
+        values = results.get(column.key, [])
+        fmt = styles.number(column.unit, role="input")
+        for i in range(table.capacity):
+            if i < len(values):
+                ws.write_number(FIRST_ROW + i, col, float(values[i]), fmt)
+            else:
+                ws.write_blank(FIRST_ROW + i, col, None, fmt)
+        first = xl_rowcol_to_cell(FIRST_ROW, col, row_abs=True, col_abs=True)
+        last = xl_rowcol_to_cell(FIRST_ROW + table.capacity - 1, col, row_abs=True, col_abs=True)
+        layout.defined_names[f"p_{column.key}"] = f"={quote_sheet(name)}!{first}:{last}"

@@ -1,0 +1,42 @@
+"""Cell formats shared by every sheet writer."""
+from workbook import units
+
+FONT = "Arial"          # Arial falls back to a CJK font for Chinese in Excel and LibreOffice
+
+
+class Styles:
+    """Creates each xlsxwriter format once per workbook."""
+
+    def __init__(self, book):
+        self._book = book
+        self._cache = {}
+        base = {"font_name": FONT, "font_size": 10}
+        self.base = base
+        self.title = self._make(bold=True, font_size=14)
+        self.subtitle = self._make(italic=True, font_color="#555555")
+        self.header = self._make(bold=True, text_wrap=True, valign="top", bg_color="#DDE6F0",
+                                 border=1)
+        self.header_other = self._make(text_wrap=True, valign="top", bg_color="#EEF2F7",
+                                       border=1, font_color="#333333")
+        self.unit = self._make(italic=True, align="center", bg_color="#EEF2F7", border=1)
+        self.group = self._make(bold=True, bg_color="#F2F2F2")
+        self.text = self._make(text_wrap=True, valign="top")
+        self.key = self._make(font_name="Consolas", font_color="#1F3864")
+        self.status = self._make(bold=True, text_wrap=True, border=2, valign="vcenter")
+        self.status_ok = book.add_format({"bg_color": "#E2EFDA", "font_color": "#375623"})
+        self.status_bad = book.add_format({"bg_color": "#FFC7CE", "font_color": "#9C0006"})
+
+    def _make(self, **props):
+        return self._book.add_format({**self.base, **props})
+
+    def number(self, unit, fmt=None, role="output"):
+        """Format of a number cell: ``role`` 'input' (yellow, editable) or 'output'."""
+        fmt = fmt or units.number_format(unit)
+        key = (fmt, role)
+        if key not in self._cache:
+            props = {"num_format": fmt}
+            if role == "input":
+                props.update(bg_color="#FFF2CC", font_color="#0000CC", border=1,
+                             border_color="#BF9000", locked=False)
+            self._cache[key] = self._make(**props)
+        return self._cache[key]
