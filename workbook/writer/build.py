@@ -21,7 +21,9 @@ FIXED_TIME = datetime.datetime(2024, 1, 1, 0, 0, 0)
 def write_workbook(spec, values, tables, grid, lang, preset, path):
     """Write the workbook to ``path`` atomically; return the numpy results."""
     results = evaluate(spec, values, tables, grid)
-    layout = Layout(spec, lang, len(grid))
+    lengths = {t.key: max(len(tables.get(c.key, [])) for c in t.columns)
+               for t in spec.input_tables}
+    layout = Layout(spec, lang, len(grid), lengths)
     path = Path(path)
     if path.exists() and path.is_dir():
         raise BuildOptionError(f"-o {path}: is a directory; give a file name ending in .xlsx")

@@ -17,7 +17,7 @@ def unit_text(unit):
 
 
 class Layout:
-    def __init__(self, spec, lang, grid_size):
+    def __init__(self, spec, lang, grid_size, table_lengths=None):
         self.spec = spec
         self.lang = lang
         self.other = OTHER[lang]
@@ -27,6 +27,9 @@ class Layout:
         self.master = spec.sheets[0].key          # the sheet that holds the grid values
         columns = {spec.grid.key: (self.sheet_name[self.master], 0)}
         self.table_start = {}
+        # An input table holds at least its template capacity, more for a long trace.
+        self.table_capacity = {t.key: max(t.capacity, (table_lengths or {}).get(t.key, 0))
+                               for t in spec.input_tables}
         for sheet in spec.sheets:
             for index, column in enumerate(sheet.columns, start=1):
                 columns[column.key] = (self.sheet_name[sheet.key], index)

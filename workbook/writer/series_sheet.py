@@ -77,11 +77,12 @@ def _write_input_table(ws, table, layout, results, styles):
         _headers(ws, col, column, column.unit, layout, styles)
         values = results.get(column.key, [])
         fmt = styles.number(column.unit, role="input")
-        for i in range(table.capacity):
+        for i in range(layout.table_capacity[table.key]):
             if i < len(values):
                 ws.write_number(FIRST_ROW + i, col, float(values[i]), fmt)
             else:
                 ws.write_blank(FIRST_ROW + i, col, None, fmt)
         first = xl_rowcol_to_cell(FIRST_ROW, col, row_abs=True, col_abs=True)
-        last = xl_rowcol_to_cell(FIRST_ROW + table.capacity - 1, col, row_abs=True, col_abs=True)
+        last = xl_rowcol_to_cell(FIRST_ROW + layout.table_capacity[table.key] - 1, col,
+                                 row_abs=True, col_abs=True)
         layout.defined_names[f"p_{column.key}"] = f"={quote_sheet(name)}!{first}:{last}"

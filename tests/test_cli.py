@@ -1,0 +1,93 @@
+"""The command line as a user meets it: bad input gives one line, exit 2, no file."""
+import hashlib
+
+import pytest
+
+from tests.conftest import run_cli
+
+BAD_SETS = [
+    (["--set", "rod_length=60", "--set", "offset=15"], "rod too short"),
+    (["--set", "rod_length=50"], "rod_length"),
+    (["--set", "bore=-88"], "parameter bore = -88: must be > 0"),
+    (["--set", "speed=0"], "parameter speed = 0: must be > 0"),
+    (["--set", "piston_mass=0"], "piston_mass"),
+    (["--set", "speed=fast"], "parameter speed: 'fast' is not a number"),
+    (["--set", "speed=nan"], "not a finite number"),
+    (["--set", "sped=3000"], "unknown parameter 'sped'"),
+    (["--set", "speed"], "expected KEY=VALUE"),
+    (["--set", "exact_kinematics=0", "--set", "offset=5"], "centric mechanism only"),
+    (["--set", "exact_kinematics=2"], "must be 0 or 1"),
+    (["--set", "pressure_source=1"], "pressure_source = 1 needs a measured trace"),
+    (["--preset", "nosuch"], "unknown preset 'nosuch'"),
+    (["--step", "7"], "must divide 720"),
+    (["--step", "-1"], "grid step must be a number > 0"),
+]
+
+
+def _assert_clean_refusal(done, expected, output):
+    assert done.returncode == 2, done.stdout + done.stderr
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1, done.stderr
+    assert "Traceback" not in done.stderr
+    assert expected in lines[0]
+    assert not output.exists()
+    assert not list(output.parent.glob("*.tmp")), "a temporary file was left behind"
+
+
+@pytest.mark.parametrize("args,expected", BAD_SETS)
+def test_bad_parameters_are_refused(tmp_path, args, expected):
+    output = tmp_path / "out.xlsx"
+    _assert_clean_refusal(run_cli("build", "-o", output, *args), expected, output)
+
+
+BAD_TRACES = [
+    ("missing.csv", None, "no such file"),
+    ("one_column.csv", "angle\n0\n10\n", "needs two columns"),
+    ("text.csv", "angle,p\n0,0.1\nten,0.2\n", "crank angle 'ten' is not a number"),
+    ("text_p.csv", "0,0.1\n10,high\n", "pressure 'high' is not a number"),
+    ("one_point.csv", "angle,p\n0,0.1\n", "at least two points"),
+    ("half.csv", "\n".join(f"{a},0.2" for a in range(-180, 181, 5)), "must cover the whole"),
+    ("negative.csv", "\n".join(f"{a},-0.1" for a in range(0, 720, 5)), "must be > 0"),
+    ("kpa.csv", "\n".join(f"{a},{100 + a}" for a in range(0, 720, 5)), "look like kPa or bar"),
+    ("trace.json", "{}", "use a .csv or .xlsx"),
+    ("fake.xlsx", "not a zip", "cannot be read as xlsx"),
+]
+
+
+@pytest.mark.parametrize("name,content,expected", BAD_TRACES)
+def test_bad_pressure_files_are_refused(tmp_path, name, content, expected):
+    trace = tmp_path / name
+    if content is not None:
+        trace.write_text(content)
+    output = tmp_path / "out" / "out.xlsx"
+    output.parent.mkdir()
+    _assert_clean_refusal(run_cli("build", "-o", output, "--pressure", trace), expected, output)
+
+
+def test_same_input_same_bytes(tmp_path):
+    digests = []
+    for name in ("a.xlsx", "b.xlsx"):
+        done = run_cli("build", "--step", "4", "-o", tmp_path / name)
+        assert done.returncode == 0, done.stderr
+        digests.append(hashlib.sha256((tmp_path / name).read_bytes()).hexdigest())
+    assert digests[0] == digests[1]
+
+
+def test_default_build_writes_output_preset(tmp_path):
+    done = run_cli("build", "--step", "5", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "output" / "thesis.xlsx").is_file()
+    assert "peak pressure" in done.stdout
+
+
+def test_help_and_listing():
+    assert "--pressure" in run_cli("build", "--help").stdout
+    assert "thesis" in run_cli("presets").stdout
+    assert "crank_radius" in run_cli("parameters").stdout
+
+
+def test_verify_refuses_a_non_workbook(tmp_path):
+    bogus = tmp_path / "x.xlsx"
+    bogus.write_text("hello")
+    done = run_cli("verify", bogus)
+    assert done.returncode == 2 and "not an .xlsx workbook" in done.stderr

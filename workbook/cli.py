@@ -1,0 +1,142 @@
+"""Command line: ``python -m workbook`` or ``crankbook``.
+
+Every user error is a CrankbookError, caught here once and printed as one line
+(exit code 2); nothing is written when a build fails.
+"""
+import argparse
+import sys
+import time
+
+from workbook import __version__
+from workbook.errors import CrankbookError
+
+LANGS = ("zh", "en")
+
+
+def _build_parser():
+    parser = argparse.ArgumentParser(
+        prog="crankbook",
+        description="Formula-backed Excel workbooks of crank–connecting-rod mechanisms.")
+    parser.add_argument("--version", action="version", version=f"crankbook {__version__}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+
+    build = commands.add_parser(
+        "build", help="write a workbook for a preset",
+        description="Write a formula-backed workbook: a Parameters sheet of named inputs, "
+                    "one sheet per quantity with a chart, and a Summary.")
+    build.add_argument("--preset", default="thesis",
+                       help="parameter preset (default: thesis; see 'crankbook presets')")
+    build.add_argument("--set", dest="assignments", action="append", default=[],
+                       metavar="KEY=VALUE", help="override a parameter, in its sheet unit "
+                       "(repeatable), e.g. --set speed=3000 --set offset=5")
+    build.add_argument("--pressure", metavar="FILE",
+                       help="measured cylinder pressure: .csv or .xlsx, two columns crank angle "
+                            "[deg] and absolute pressure [MPa]; sets pressure_source = 1 unless "
+                            "--set says otherwise")
+    build.add_argument("--lang", choices=LANGS, default="zh",
+                       help="language of sheet names, titles and charts (default: zh); "
+                            "labels are bilingual either way")
+    build.add_argument("--step", type=float, default=None, metavar="DEG",
+                       help="crank-angle grid step in degrees, dividing 720 (default: 1)")
+    build.add_argument("-o", "--output", metavar="PATH",
+                       help="output .xlsx (default: output/<preset>.xlsx)")
+
+    verify = commands.add_parser(
+        "verify", help="recalculate a workbook in LibreOffice and compare with numpy",
+        description="Open PATH in LibreOffice headless with recalculation forced, read every "
+                    "q_ name back and compare it with numpy for the workbook's own parameters. "
+                    "Exit 0 only when all agree within 1e-9 of each series' peak.")
+    verify.add_argument("path", metavar="PATH")
+
+    commands.add_parser("presets", help="list the presets")
+    params_cmd = commands.add_parser("parameters", help="list the parameters of a preset")
+    params_cmd.add_argument("--preset", default="thesis")
+    return parser
+
+
+def _build(args):
+    from workbook import evaluate, params
+    from workbook.pressure_file import read_trace
+    from workbook.writer.build import write_workbook
+
+    started = time.perf_counter()
+    spec, values, preset = params.load_preset(args.preset)
+    values = params.apply_overrides(spec, values, args.assignments)
+    tables = {}
+    if args.pressure:
+        angles, pressures = read_trace(args.pressure)
+        tables = {"trace_crank_angle": angles, "trace_pressure": pressures}
+        if not any(a.split("=")[0].strip() == "pressure_source" for a in args.assignments):
+            values["pressure_source"] = 1
+    trace_points = len(tables.get("trace_crank_angle", []))
+    values = params.validate(spec, values, trace_points=trace_points)
+    grid = evaluate.crank_angle_grid(spec, args.step)
+    output = args.output or f"output/{args.preset}.xlsx"
+    results = write_workbook(spec, values, tables, grid, args.lang, preset, output)
+    elapsed = time.perf_counter() - started
+    print(f"wrote {output}: {len(spec.sheets) + 2} sheets, {len(grid)} crank angles "
+          f"({grid[1] - grid[0]:g}° step) in {elapsed:.1f} s — peak pressure "
+          f"{results['cylinder_pressure_max']:.3f} MPa at {results['cylinder_pressure_max_angle']:g}°, "
+          f"mean torque {results['mean_torque']:.2f} N·m, indicated power "
+          f"{results['indicated_power']:.2f} kW")
+    return 0
+
+
+def _verify(args):
+    from workbook.verify import TOLERANCE, verify
+
+    started = time.perf_counter()
+    spec, comparisons, status = verify(args.path)
+    print(f"verify {args.path}: LibreOffice recalculation vs numpy "
+          f"(tolerance {TOLERANCE:g} of each series' peak)")
+    print(f"  {'name':<46} {'worst |error|':>14} {'of peak':>10}  {'cached':>9}  verdict")
+    for c in sorted(comparisons, key=lambda c: -c.relative):
+        verdict = "ok" if c.ok else "DIFFERS"
+        print(f"  {c.name:<46} {c.worst:>14.3g} {c.relative:>10.2g}  {c.cached_relative:>9.2g}  "
+              f"{verdict}")
+    bad = [c for c in comparisons if not c.ok]
+    elapsed = time.perf_counter() - started
+    if status is not None and not str(status).startswith("✓"):
+        print(f"inputs are invalid in the workbook: {status}")
+        return 1
+    if bad:
+        print(f"{len(bad)} of {len(comparisons)} names differ from numpy ({elapsed:.1f} s)")
+        return 1
+    print(f"all {len(comparisons)} names agree with numpy ({elapsed:.1f} s)")
+    return 0
+
+
+def _presets(args):
+    from workbook import params
+    for name in params.preset_names():
+        _, _, preset = params.load_preset(name)
+        print(f"{name:<20} {preset['en']} / {preset['zh']}")
+    return 0
+
+
+def _parameters(args):
+    from workbook import params
+    spec, values, _ = params.load_preset(args.preset)
+    for p in spec.parameters:
+        print(f"{p.key:<24} {values[p.key]:>10g} {p.unit:<4} {p.en}  [{p.bounds_text()}]")
+    return 0
+
+
+def main(argv=None):
+    args = _build_parser().parse_args(argv)
+    handlers = {"build": _build, "verify": _verify, "presets": _presets,
+                "parameters": _parameters}
+    try:
+        return handlers[args.command](args)
+    except CrankbookError as error:
+        print(f"crankbook: error: {error}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:
+        return 0
+    except KeyboardInterrupt:
+        print("crankbook: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
