@@ -13,7 +13,7 @@ HEADERS = {
     "checks": ("输入检查（1 = 不满足）", "Input checks (1 = broken)"),
 }
 STATUS_OK = ("✓ 输入有效：所有表格与图表已按这些参数计算",
-             "✓ Inputs valid: every table and chart follows these parameters")
+             "inputs valid: every table and chart follows these parameters")
 BOUND_WORDS = {"zh": "须为", "en": "must be"}
 
 
@@ -145,5 +145,8 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
     ws.conditional_format(first_check, 1, last_check, 1, {
         "type": "cell", "criteria": "==", "value": 1, "format": styles.status_bad})
     ws.freeze_panes(3, 0)
+    ws.set_paper(9)
+    ws.set_landscape()
+    ws.fit_to_pages(1, 0)
     ws.activate()
     return ws

@@ -32,6 +32,10 @@ def write_series_sheet(book, sheet_spec, layout, results, grid, styles):
     ws.set_row(FIRST_ROW - 3, 42)
     ws.set_row(FIRST_ROW - 2, 42)
     ws.freeze_panes(FIRST_ROW, 1)
+    ws.set_paper(9)                       # A4, landscape, table and chart one page wide
+    ws.set_landscape()
+    ws.fit_to_pages(1, 0)
+    ws.repeat_rows(FIRST_ROW - 3, FIRST_ROW - 1)
 
     # The crank-angle column: numbers on the master sheet, references elsewhere.
     grid_q = spec.grid

@@ -52,4 +52,7 @@ def write_summary_sheet(book, layout, results, styles):
         put(row, 3, quantity.key)
         row += 1
     ws.freeze_panes(4, 1)
+    ws.set_paper(9)
+    ws.set_landscape()
+    ws.fit_to_pages(1, 0)
     return ws
