@@ -44,7 +44,7 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
     def define(key_name, row, col):
         names[key_name] = "=" + sheet_ref + "!" + xl_rowcol_to_cell(row, col, True, True)
 
-    for col, width in enumerate([28, 14, 9, 46, 52, 22]):
+    for col, width in enumerate([28, 14, 9, 60, 70, 24]):
         ws.set_column(col, col, width)
     ws.write(0, 0, f"{label(spec, lang)} — {_both(('参数', 'Parameters'), lang)}", styles.title)
     ws.write(1, 0, f"{_both(('预设', 'Preset'), lang)}: {preset['name']} — {preset[lang]}",

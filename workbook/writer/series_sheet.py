@@ -68,7 +68,8 @@ def write_series_sheet(book, sheet_spec, layout, results, grid, styles):
     chart_col = len(sheet_spec.columns) + 2
     for table in layout.tables_on(sheet_spec.key):
         chart_col = max(chart_col, layout.table_start[table.key] + len(table.columns) + 1)
-    ws.insert_chart(FIRST_ROW - 3, chart_col, chart, {"x_offset": 10})
+    # Anchored below the header rows, which repeat on every printed page.
+    ws.insert_chart(FIRST_ROW, chart_col, chart, {"x_offset": 10})
     return ws
 
 
