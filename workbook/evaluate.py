@@ -11,6 +11,12 @@ from workbook import units
 from workbook.errors import BuildOptionError
 
 
+def numeric_grid(grid):
+    """start, start+step, …, stop of a numeric grid."""
+    count = round((grid.stop - grid.start) / grid.step)
+    return grid.start + grid.step * np.arange(count + 1)
+
+
 def crank_angle_grid(spec, step=None):
     """The shared crank-angle grid start, start+step, …, stop [deg]."""
     step = spec.grid_step if step is None else step
@@ -37,12 +43,18 @@ def evaluate(spec, values, tables, grid):
         The crank-angle grid [deg].
     """
     si = {}
+    shapes = {spec.grid.key: np.shape(grid)}
 
     def si_value(key):
         if key in si:
             return si[key]
+        q = spec.quantity.get(key)
         if key == spec.grid.key:
             result = np.asarray(grid, dtype=float) * units.si_factor(spec.grid.unit)
+        elif q is not None and q.is_grid and q.formula is None:
+            points = numeric_grid(q)
+            shapes[key] = points.shape
+            result = points * units.si_factor(q.unit)
         elif key in spec.parameter:
             result = float(values[key]) * units.si_factor(spec.parameter[key].unit)
         elif key in spec.table_column:
@@ -52,8 +64,12 @@ def evaluate(spec, values, tables, grid):
             q = spec.quantity[key]
             kwargs = {name: si_value(source) for name, source in q.calc_arguments().items()}
             result = q.calc_function()(**kwargs)
-            if q.kind == "series":
-                result = np.broadcast_to(np.asarray(result, dtype=float), np.shape(grid))
+            if q.is_grid:
+                result = np.asarray(result, dtype=float)
+                shapes[key] = result.shape
+            elif q.kind == "series":
+                si_value(q.grid)
+                result = np.broadcast_to(np.asarray(result, dtype=float), shapes[q.grid])
             else:
                 result = float(result)
         si[key] = result

@@ -17,7 +17,8 @@ from workbook import units
 from workbook.errors import UnknownPresetError
 
 TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
-REFERENCE = re.compile(r"\{([a-z_0-9]+)(?::(head|tail))?\}")
+REFERENCE = re.compile(r"\{([a-z_0-9]+)(?::(head|tail|prev|last))?\}")
+ROW_INDEX = "row_index"        # {row_index}: 0-based row number within the grid
 
 
 @dataclass(frozen=True)
@@ -86,6 +87,17 @@ class Quantity:
     sheet: str | None = None
     summary: bool = False
     format: str | None = None
+    grid: str | None = None       # series: key of the grid it is tabulated on
+    first: str | None = None      # series: formula of the first row (recurrences)
+    start: float | None = None    # numeric grids: start, stop, step
+    stop: float | None = None
+    step: float | None = None
+    rows: int | None = None       # formula grids: number of rows
+    axis: tuple = ()              # grids: chart x-axis (min, max, major unit)
+
+    @property
+    def is_grid(self):
+        return self.grid == self.key
 
     def calc_function(self):
         module, _, name = self.calc.rpartition(".")
@@ -97,7 +109,8 @@ class Quantity:
         return {name: self.args.get(name, name) for name in names}
 
     def references(self):
-        return [match.group(1) for match in REFERENCE.finditer(self.formula or "")]
+        text = (self.formula or "") + (self.first or "")
+        return [m.group(1) for m in REFERENCE.finditer(text) if m.group(1) != ROW_INDEX]
 
 
 @dataclass(frozen=True)
@@ -112,6 +125,8 @@ class Sheet:
     unit: str
     chart: tuple
     columns: tuple
+    grid: str | None = None       # series sheets: their grid
+    kind: str = "series"          # "series" or "scalars"
 
 
 @dataclass
@@ -119,10 +134,8 @@ class WorkbookSpec:
     key: str
     zh: str
     en: str
-    grid: Quantity
-    grid_start: float
-    grid_stop: float
-    grid_step: float
+    grid: Quantity                # the main crank-angle grid (its step is a build option)
+    grids: list
     groups: dict
     parameters: list
     input_tables: list
@@ -137,12 +150,28 @@ class WorkbookSpec:
         self.table_column = {c.key: c for t in self.input_tables for c in t.columns}
         self.quantity = {q.key: q for q in self.quantities()}
 
+    @property
+    def grid_start(self):
+        return self.grid.start
+
+    @property
+    def grid_stop(self):
+        return self.grid.stop
+
+    @property
+    def grid_step(self):
+        return self.grid.step
+
     def series(self):
-        return [self.grid] + [c for s in self.sheets for c in s.columns]
+        return list(self.grids) + [c for s in self.sheets if s.kind == "series"
+                                   for c in s.columns]
+
+    def sheet_scalars(self):
+        return [c for s in self.sheets if s.kind == "scalars" for c in s.columns]
 
     def quantities(self):
-        """Every computed quantity, grid first, in the order they are laid out."""
-        return self.series() + self.scalars + self.results + self.summary
+        """Every computed quantity, grids first, in the order they are laid out."""
+        return self.series() + self.scalars + self.sheet_scalars() + self.results + self.summary
 
     def unit_of(self, key):
         for table in (self.parameter, self.table_column, self.quantity):
@@ -151,11 +180,47 @@ class WorkbookSpec:
         raise KeyError(key)
 
 
-def _quantity(entry, kind, sheet=None):
+def _quantity(entry, kind, sheet=None, grid=None):
     return Quantity(key=entry["key"], kind=kind, unit=entry["unit"], zh=entry["zh"],
                     en=entry["en"], formula=entry.get("formula"), calc=entry.get("calc"),
                     args=dict(entry.get("args", {})), sheet=sheet,
-                    summary=entry.get("summary", False), format=entry.get("format"))
+                    summary=entry.get("summary", False), format=entry.get("format"),
+                    grid=grid, first=entry.get("first"))
+
+
+def _grid(entry):
+    """A grid: numeric (start, stop, step) or computed (rows, formula, calc)."""
+    start, stop = entry.get("start"), entry.get("stop")
+    axis = tuple(entry.get("axis", (start, stop, 90.0)))
+    return Quantity(key=entry["key"], kind="series", unit=entry.get("unit", "deg"),
+                    zh=entry["zh"], en=entry["en"], formula=entry.get("formula"),
+                    calc=entry.get("calc"), args=dict(entry.get("args", {})),
+                    format=entry.get("format", "0.0"), grid=entry["key"], start=start,
+                    stop=stop, step=entry.get("step"), rows=entry.get("rows"), axis=axis)
+
+
+def _instantiate(member, prefix, grid, members):
+    """A column-set member placed on a grid: keys of the set get the prefix and
+    ``crank_angle`` stands for the grid."""
+    def rename(key):
+        if key == "crank_angle":
+            return grid
+        return prefix + key if key in members else key
+
+    def rewrite(template):
+        if template is None:
+            return None
+        return REFERENCE.sub(lambda m: "{" + rename(m.group(1)) +
+                             (":" + m.group(2) if m.group(2) else "") + "}", template)
+
+    entry = dict(member, key=prefix + member["key"], formula=rewrite(member.get("formula")),
+                 first=rewrite(member.get("first")))
+    function = Quantity(key="", kind="", unit="-", zh="", en="", formula=None,
+                        calc=member["calc"]).calc_function()
+    args = {name: member.get("args", {}).get(name, name)
+            for name in inspect.signature(function).parameters}
+    entry["args"] = {name: rename(source) for name, source in args.items()}
+    return entry
 
 
 def _summary_quantities(grid, series):
@@ -171,9 +236,9 @@ def _summary_quantities(grid, series):
             out.append(Quantity(
                 key=f"{q.key}_{stat}_angle", kind="result", unit=grid.unit,
                 zh=f"{q.zh} {word_zh}处曲轴转角", en=f"crank angle of {q.en} {word_en}",
-                formula=f"INDEX({{{grid.key}}},MATCH({{{q.key}_{stat}}},{{{q.key}}},0))",
+                formula=f"INDEX({{{q.grid}}},MATCH({{{q.key}_{stat}}},{{{q.key}}},0))",
                 calc=f"calc.cycle.angle_of_{word_en}",
-                args={"crank_angle": grid.key, "values": q.key}))
+                args={"crank_angle": q.grid, "values": q.key}))
     return out
 
 
@@ -186,28 +251,44 @@ def load(name):
     with open(path, "rb") as handle:
         data = tomllib.load(handle)
     head = data["workbook"]
-    grid = Quantity(key=head["grid"], kind="series", unit="deg", zh="曲轴转角 α",
-                    en="Crank angle α", formula=None, calc=None, format="0.0")
+    main = _grid({"key": head["grid"], "zh": "曲轴转角 α", "en": "Crank angle α",
+                  "start": head["grid_start"], "stop": head["grid_stop"],
+                  "step": head["grid_step"], **head.get("grid_labels", {})})
+    grids = [main] + [_grid(g) for g in data.get("grid", [])]
     parameters = [Parameter(**p) for p in data["parameter"]]
     tables = [InputTable(key=t["key"], sheet=t["sheet"], capacity=t["capacity"],
                          columns=tuple(InputColumn(**c) for c in t["column"]))
               for t in data.get("input_table", [])]
     rules = [Rule(key=r["key"], fails=r["fails"], python=r["python"], names=tuple(r["names"]),
                   zh=r["zh"], en=r["en"]) for r in data.get("rule", [])]
+    columnsets = {c["key"]: c["column"] for c in data.get("columnset", [])}
     sheets = []
     for s in data["sheet"]:
-        columns = tuple(_quantity(c, "series", sheet=s["key"]) for c in s["column"])
+        kind = s.get("kind", "series")
+        grid = s.get("grid", main.key) if kind == "series" else None
+        entries = list(s.get("column", []))
+        if "columnset" in s:
+            members = columnsets[s["columnset"]]
+            names = {m["key"] for m in members}
+            chosen = s.get("columns") or [m["key"] for m in members]
+            by_key = {m["key"]: m for m in members}
+            entries += [_instantiate(by_key[k], s.get("prefix", ""), grid, names) for k in chosen]
+        if kind == "scalars":
+            columns = tuple(_quantity(c, "scalar", sheet=s["key"]) for c in s.get("scalar", []))
+        else:
+            columns = tuple(_quantity(c, "series", sheet=s["key"], grid=grid) for c in entries)
         sheets.append(Sheet(key=s["key"], zh=s["zh"], en=s["en"], title_zh=s["title_zh"],
-                            title_en=s["title_en"], axis_zh=s["axis_zh"], axis_en=s["axis_en"],
-                            unit=s["unit"], chart=tuple(s["chart"]), columns=columns))
-    series = [c for s in sheets for c in s.columns if c.summary]
+                            title_en=s["title_en"], axis_zh=s.get("axis_zh", ""),
+                            axis_en=s.get("axis_en", ""), unit=s.get("unit", "-"),
+                            chart=tuple(s.get("chart", [])), columns=columns, grid=grid,
+                            kind=kind))
+    series = [c for s in sheets if s.kind == "series" for c in s.columns if c.summary]
     spec = WorkbookSpec(
-        key=head["key"], zh=head["zh"], en=head["en"], grid=grid,
-        grid_start=head["grid_start"], grid_stop=head["grid_stop"], grid_step=head["grid_step"],
+        key=head["key"], zh=head["zh"], en=head["en"], grid=main, grids=grids,
         groups=data.get("groups", {}), parameters=parameters, input_tables=tables, rules=rules,
         scalars=[_quantity(q, "scalar") for q in data.get("scalar", [])], sheets=sheets,
         results=[_quantity(q, "result") for q in data.get("result", [])],
-        summary=_summary_quantities(grid, series))
+        summary=_summary_quantities(main, series))
     check(spec)
     return spec
 
@@ -221,8 +302,12 @@ def check(spec):
         if key in seen:
             raise ValueError(f"{spec.key}: key {key!r} is defined twice")
         seen.add(key)
+    homes = {s.grid for s in spec.sheets if s.kind == "series"}
+    for g in spec.grids:
+        if g.key not in homes:
+            raise ValueError(f"{spec.key}: grid {g.key!r} is on no sheet")
     for q in spec.quantities():
-        if q is spec.grid:
+        if q.is_grid and q.formula is None:
             continue
         for ref in q.references():
             if ref not in known:
@@ -235,6 +320,7 @@ def check(spec):
             raise ValueError(f"{spec.key}: unit {q.unit!r} of {q.key!r} is not in units.toml")
     for s in spec.sheets:
         for key in s.chart:
-            if key not in spec.quantity or spec.quantity[key].kind != "series":
+            if key not in spec.quantity or spec.quantity[key].kind != "series" or \
+                    spec.quantity[key].grid != s.grid:
                 raise ValueError(f"{spec.key}: chart of sheet {s.key!r} lists {key!r}, "
-                                 f"not a series")
+                                 f"not a series on the sheet's grid")

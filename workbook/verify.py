@@ -91,7 +91,7 @@ def compare(spec, expected, recalculated, cached):
             # Ties (the same extreme at 0° and 720°) make the angle ambiguous: compare
             # the series value at LibreOffice's angle with numpy's extreme instead.
             series = q.args["values"]
-            grid = np.asarray(expected[spec.grid.key])
+            grid = np.asarray(expected[q.args["crank_angle"]])
             values = np.asarray(expected[series])
             extreme = np.nanmax(values) if "_max" in q.key else np.nanmin(values)
             at = values[np.argmin(np.abs(grid - got[0]))] if np.isfinite(got[0]) else math.nan

@@ -8,6 +8,7 @@ import xlsxwriter
 
 from workbook.errors import BuildOptionError
 from workbook.evaluate import evaluate
+from workbook.writer.scalar_sheet import write_scalar_sheet
 from workbook.writer.layout import Layout
 from workbook.writer.parameters_sheet import write_parameters_sheet
 from workbook.writer.series_sheet import write_series_sheet
@@ -23,7 +24,8 @@ def write_workbook(spec, values, tables, grid, lang, preset, path):
     results = evaluate(spec, values, tables, grid)
     lengths = {t.key: max(len(tables.get(c.key, [])) for c in t.columns)
                for t in spec.input_tables}
-    layout = Layout(spec, lang, len(grid), lengths)
+    sizes = {g.key: len(results[g.key]) for g in spec.grids}
+    layout = Layout(spec, lang, sizes, lengths)
     path = Path(path)
     if path.exists() and path.is_dir():
         raise BuildOptionError(f"-o {path}: is a directory; give a file name ending in .xlsx")
@@ -60,7 +62,10 @@ def _write(spec, values, tables, grid, lang, preset, results, layout, filename):
     write_summary_sheet(book, layout, results, styles)
     table_values = {key: list(values_) for key, values_ in tables.items()}
     for sheet_spec in spec.sheets:
-        write_series_sheet(book, sheet_spec, layout, {**results, **table_values}, grid, styles)
+        if sheet_spec.kind == "scalars":
+            write_scalar_sheet(book, sheet_spec, layout, results, styles)
+        else:
+            write_series_sheet(book, sheet_spec, layout, {**results, **table_values}, styles)
     for key in layout.locator.series_columns:
         layout.defined_names[f"q_{key}"] = "=" + layout.locator.column_range(key)
     for name in sorted(layout.defined_names):

@@ -1,7 +1,6 @@
 """Native scatter charts: one per quantity sheet, crank angle on the x axis."""
 from workbook.writer.layout import label, unit_text
 
-AXIS_TITLE = {"zh": "曲轴转角 α [°]", "en": "Crank angle α [°]"}
 COLOURS = ["#1F77B4", "#D62728", "#2CA02C", "#FF7F0E", "#9467BD", "#8C564B"]
 
 
@@ -21,8 +20,10 @@ def add_quantity_chart(book, sheet_spec, layout, x_range):
     unit = unit_text(sheet_spec.unit)
     chart.set_title({"name": label(sheet_spec, lang, "title_"),
                      "name_font": {"size": 11, "bold": True}})
-    chart.set_x_axis({"name": AXIS_TITLE[lang], "min": spec.grid_start, "max": spec.grid_stop,
-                      "major_unit": 90, "major_gridlines": {"visible": True,
+    grid = spec.quantity[sheet_spec.grid]
+    low, high, major = grid.axis
+    chart.set_x_axis({"name": f"{label(grid, lang)} [{unit_text(grid.unit)}]", "min": low,
+                      "max": high, "major_unit": major, "major_gridlines": {"visible": True,
                                                             "line": {"color": "#D9D9D9"}},
                       "label_position": "low"})
     chart.set_y_axis({"name": f"{label(sheet_spec, lang, 'axis_')} [{unit}]",

@@ -1,4 +1,4 @@
-"""Where things go: sheet names in the chosen language and the series columns."""
+"""Where things go: sheet names in the chosen language, series columns and rows."""
 from workbook.formulas import Locator
 
 FIRST_ROW = 5            # 0-based row of the first grid point on every series sheet
@@ -17,28 +17,37 @@ def unit_text(unit):
 
 
 class Layout:
-    def __init__(self, spec, lang, grid_size, table_lengths=None):
+    def __init__(self, spec, lang, grid_sizes, table_lengths=None):
+        """``grid_sizes``: grid key -> number of rows."""
         self.spec = spec
         self.lang = lang
         self.other = OTHER[lang]
         self.sheet_name = {key: names[lang] for key, names in FIXED_SHEETS.items()}
         for sheet in spec.sheets:
             self.sheet_name[sheet.key] = label(sheet, lang)
-        self.master = spec.sheets[0].key          # the sheet that holds the grid values
-        columns = {spec.grid.key: (self.sheet_name[self.master], 0)}
+        # The first sheet on a grid holds its values; others refer to them.
+        self.master = {}
+        for sheet in spec.sheets:
+            if sheet.kind == "series":
+                self.master.setdefault(sheet.grid, sheet.key)
+        columns = {grid: (self.sheet_name[home], 0, grid) for grid, home in self.master.items()}
         self.table_start = {}
-        # An input table holds at least its template capacity, more for a long trace.
         self.table_capacity = {t.key: max(t.capacity, (table_lengths or {}).get(t.key, 0))
                                for t in spec.input_tables}
         for sheet in spec.sheets:
+            if sheet.kind != "series":
+                continue
             for index, column in enumerate(sheet.columns, start=1):
-                columns[column.key] = (self.sheet_name[sheet.key], index)
+                columns[column.key] = (self.sheet_name[sheet.key], index, sheet.grid)
         for table in spec.input_tables:
             sheet = next(s for s in spec.sheets if s.key == table.sheet)
             self.table_start[table.key] = len(sheet.columns) + 2
-        self.last_row = FIRST_ROW + grid_size - 1
-        self.locator = Locator(spec, columns, FIRST_ROW, self.last_row)
+        grid_rows = {g: (FIRST_ROW, FIRST_ROW + n - 1) for g, n in grid_sizes.items()}
+        self.locator = Locator(spec, columns, grid_rows)
         self.defined_names = {}   # name -> reference, filled by the sheet writers
+
+    def last_row(self, grid):
+        return self.locator.grid_rows[grid][1]
 
     def tables_on(self, sheet_key):
         return [t for t in self.spec.input_tables if t.sheet == sheet_key]

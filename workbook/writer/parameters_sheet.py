@@ -4,7 +4,7 @@ from xlsxwriter.utility import xl_rowcol_to_cell
 
 from workbook.formulas import quote_sheet
 from workbook.writer.layout import label, unit_text
-from workbook.writer.series_sheet import cached
+from workbook.writer.scalar_sheet import write_scalar_rows
 
 HEADERS = {
     "inputs": [("键", "Key"), ("数值", "Value"), ("单位", "Unit"), ("说明", "Description (zh)"),
@@ -89,16 +89,7 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
     row += 1
     ws.merge_range(row, 0, row, 5, _both(HEADERS["derived"], lang), styles.group)
     row += 1
-    for quantity in spec.scalars:
-        ws.write(row, 0, quantity.key, styles.key)
-        ws.write_formula(row, 1, locator.scalar_formula(quantity.formula),
-                         styles.number(quantity.unit, quantity.format),
-                         cached(results[quantity.key]))
-        ws.write(row, 2, unit_text(quantity.unit))
-        ws.write(row, 3, quantity.zh, styles.text)
-        ws.write(row, 4, quantity.en, styles.text)
-        define(f"q_{quantity.key}", row, 1)
-        row += 1
+    row = write_scalar_rows(ws, row, spec.scalars, layout, results, styles, name)
 
     row += 1
     ws.merge_range(row, 0, row, 5, _both(HEADERS["checks"], lang), styles.group)

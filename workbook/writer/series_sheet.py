@@ -3,7 +3,7 @@ import math
 
 from xlsxwriter.utility import xl_rowcol_to_cell
 
-from workbook.formulas import ROW, quote_sheet
+from workbook.formulas import fill, quote_sheet
 from workbook.writer.charts import add_quantity_chart
 from workbook.writer.layout import FIRST_ROW, label, unit_text
 
@@ -23,7 +23,7 @@ def _headers(ws, col, item, unit, layout, styles, width=COLUMN_WIDTH):
     ws.set_column(col, col, width)
 
 
-def write_series_sheet(book, sheet_spec, layout, results, grid, styles):
+def write_series_sheet(book, sheet_spec, layout, results, styles):
     spec, locator = layout.spec, layout.locator
     name = layout.sheet_name[sheet_spec.key]
     ws = book.add_worksheet(name)
@@ -37,33 +37,45 @@ def write_series_sheet(book, sheet_spec, layout, results, grid, styles):
     ws.fit_to_pages(1, 0)
     ws.repeat_rows(FIRST_ROW - 3, FIRST_ROW - 1)
 
-    # The crank-angle column: numbers on the master sheet, references elsewhere.
-    grid_q = spec.grid
+    # The grid column: values (or its formulas) on the grid's first sheet,
+    # references to them elsewhere.
+    grid_q = spec.quantity[sheet_spec.grid]
+    grid = results[grid_q.key]
     _headers(ws, 0, grid_q, grid_q.unit, layout, styles, width=11)
     angle_format = styles.number(grid_q.unit, grid_q.format)
-    if sheet_spec.key == layout.master:
-        for i, angle in enumerate(grid):
-            ws.write_number(FIRST_ROW + i, 0, float(angle), angle_format)
+    if layout.master[grid_q.key] == sheet_spec.key:
+        if grid_q.formula is None:
+            for i, angle in enumerate(grid):
+                ws.write_number(FIRST_ROW + i, 0, float(angle), angle_format)
+        else:
+            template = locator.series_formula(grid_q.formula, name, grid_q.key)
+            for i, angle in enumerate(grid):
+                ws.write_formula(FIRST_ROW + i, 0, fill(template, FIRST_ROW + i, i),
+                                 angle_format, cached(angle))
     else:
-        master = quote_sheet(layout.sheet_name[layout.master])
+        master = quote_sheet(layout.sheet_name[layout.master[grid_q.key]])
         for i, angle in enumerate(grid):
             row = FIRST_ROW + i + 1
-            ws.write_formula(FIRST_ROW + i, 0, f"={master}!$A{row}", angle_format, float(angle))
+            ws.write_formula(FIRST_ROW + i, 0, f"={master}!$A{row}", angle_format, cached(angle))
 
     for col, quantity in enumerate(sheet_spec.columns, start=1):
         _headers(ws, col, quantity, quantity.unit, layout, styles)
-        template = locator.series_formula(quantity.formula, name)
+        template = locator.series_formula(quantity.formula, name, sheet_spec.grid)
+        first = locator.series_formula(quantity.first, name, sheet_spec.grid) \
+            if quantity.first else template
         fmt = styles.number(quantity.unit, quantity.format)
         values = results[quantity.key]
         for i in range(len(grid)):
             row = FIRST_ROW + i
-            ws.write_formula(row, col, template.replace(ROW, str(row + 1)), fmt,
+            ws.write_formula(row, col, fill(first if i == 0 else template, row, i), fmt,
                              cached(values[i]))
 
     for table in layout.tables_on(sheet_spec.key):
         _write_input_table(ws, table, layout, results, styles)
 
-    x_range = f"{quote_sheet(name)}!$A${FIRST_ROW + 1}:$A${layout.last_row + 1}"
+    if not sheet_spec.chart:
+        return ws
+    x_range = f"{quote_sheet(name)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}"
     chart = add_quantity_chart(book, sheet_spec, layout, x_range)
     chart_col = len(sheet_spec.columns) + 2
     for table in layout.tables_on(sheet_spec.key):
