@@ -199,10 +199,12 @@ def _grid(entry):
                     stop=stop, step=entry.get("step"), rows=entry.get("rows"), axis=axis)
 
 
-def _instantiate(member, prefix, grid, members):
-    """A column-set member placed on a grid: keys of the set get the prefix and
-    ``crank_angle`` stands for the grid."""
+def _instantiate(member, prefix, grid, members, aliases):
+    """A column-set member placed on a grid: keys of the set get the prefix,
+    ``crank_angle`` stands for the grid and each alias for the key it names."""
     def rename(key):
+        if key in aliases:
+            return aliases[key]
         if key == "crank_angle":
             return grid
         return prefix + key if key in members else key
@@ -250,6 +252,14 @@ def load(name):
         raise UnknownPresetError(f"workbook template {name!r} does not exist in {TEMPLATES}")
     with open(path, "rb") as handle:
         data = tomllib.load(handle)
+    for name in data.pop("include", []):
+        with open(TEMPLATES / "common" / f"{name}.toml", "rb") as handle:
+            shared = tomllib.load(handle)
+        for key, value in shared.items():
+            if isinstance(value, list):
+                data[key] = data.get(key, []) + value
+            else:
+                data[key] = {**data.get(key, {}), **value}
     head = data["workbook"]
     main = _grid({"key": head["grid"], "zh": "曲轴转角 α", "en": "Crank angle α",
                   "start": head["grid_start"], "stop": head["grid_stop"],
@@ -267,12 +277,13 @@ def load(name):
         kind = s.get("kind", "series")
         grid = s.get("grid", main.key) if kind == "series" else None
         entries = list(s.get("column", []))
-        if "columnset" in s:
-            members = columnsets[s["columnset"]]
+        for use in s.get("use", []):
+            members = columnsets[use["columnset"]]
             names = {m["key"] for m in members}
-            chosen = s.get("columns") or [m["key"] for m in members]
+            chosen = use.get("columns") or [m["key"] for m in members]
             by_key = {m["key"]: m for m in members}
-            entries += [_instantiate(by_key[k], s.get("prefix", ""), grid, names) for k in chosen]
+            entries += [_instantiate(by_key[k], use.get("prefix", ""), grid, names,
+                                     use.get("aliases", {})) for k in chosen]
         if kind == "scalars":
             columns = tuple(_quantity(c, "scalar", sheet=s["key"]) for c in s.get("scalar", []))
         else:
