@@ -46,3 +46,8 @@ def angle_of_maximum(crank_angle, values):
 def angle_of_minimum(crank_angle, values):
     """Crank angle of the first occurrence of the smallest value."""
     return float(np.asarray(crank_angle)[np.argmin(values)])
+
+
+def last_value(values):
+    """The last element of a series (the converged end of an iteration)."""
+    return float(np.asarray(values)[-1])

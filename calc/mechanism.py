@@ -50,6 +50,16 @@ def lowest_position_angle(crank_radius, rod_length, offset):
 
 # --- the 15 positions ------------------------------------------------------------
 
+def max_speed_start_down(crank_radius, rod_length, offset):
+    """Newton start for the maximum-speed position of the downstroke [rad]."""
+    return max_speed_start(crank_radius, rod_length, offset, upstroke=False)
+
+
+def max_speed_start_up(crank_radius, rod_length, offset):
+    """Newton start for the maximum-speed position of the upstroke [rad]."""
+    return max_speed_start(crank_radius, rod_length, offset, upstroke=True)
+
+
 def max_speed_start(crank_radius, rod_length, offset, upstroke):
     """Newton start for a maximum-speed position: the centric root of a(ψ) = 0,
     cosψ = (√(1 + 8λ²) − 1)/(4λ), shifted by ψ_top [rad]."""
@@ -92,10 +102,10 @@ def raw_position_angles(step_index, lowest_position_angle, max_speed_angle_down,
     return np.array([extra.get(int(i), np.pi / 6 * i) for i in index])
 
 
-def position_angles(step_index, raw_position_angle):
+def position_angles(raw_position_angle):
     """The 30 positions of the cycle: the 15 sorted, then the same + 2π [rad]."""
     ordered = np.sort(np.asarray(raw_position_angle, dtype=float))
-    return np.concatenate([ordered, ordered + 2 * np.pi])[:np.size(step_index)]
+    return np.concatenate([ordered, ordered + 2 * np.pi])
 
 
 # --- rod kinematics ----------------------------------------------------------------
@@ -277,3 +287,8 @@ def weight_to_mass(weight, gravity):
 def scaled_length(ratio, length):
     """ratio × length [m]."""
     return ratio * length
+
+
+def at_least(value, bound):
+    """1 where value ≥ bound, else 0 (a design check)."""
+    return np.where(np.asarray(value) >= bound, 1.0, 0.0)

@@ -74,11 +74,10 @@ def _build(args):
     output = args.output or f"output/{args.preset}.xlsx"
     results = write_workbook(spec, values, tables, grid, args.lang, preset, output)
     elapsed = time.perf_counter() - started
+    facts = ", ".join(f"{key} {results[key]:.4g} {spec.quantity[key].unit}"
+                      for key in spec.highlights)
     print(f"wrote {output}: {len(spec.sheets) + 2} sheets, {len(grid)} crank angles "
-          f"({grid[1] - grid[0]:g}° step) in {elapsed:.1f} s — peak pressure "
-          f"{results['cylinder_pressure_max']:.3f} MPa at {results['cylinder_pressure_max_angle']:g}°, "
-          f"mean torque {results['mean_torque']:.2f} N·m, indicated power "
-          f"{results['indicated_power']:.2f} kW")
+          f"({grid[1] - grid[0]:g}° step) in {elapsed:.1f} s — {facts}")
     return 0
 
 

@@ -87,7 +87,15 @@ def validate(spec, values, trace_points=0):
                 f"parameter {parameter.key} = {value:g}: must be {parameter.bounds_text()}")
         values[parameter.key] = value
     namespace = dict(values, trace_points=trace_points)
+    functions = {"__builtins__": {}, "abs": abs, "min": min, "max": max,
+                 **{name: getattr(math, name) for name in
+                    ("sqrt", "tan", "sin", "cos", "asin", "acos", "atan", "pi", "radians",
+                     "degrees")}}
     for rule in spec.rules:
-        if eval(rule.python, {"__builtins__": {}, "abs": abs}, namespace):  # noqa: S307 (our data)
+        try:
+            broken = eval(rule.python, functions, namespace)  # noqa: S307 (our own data)
+        except (ValueError, ZeroDivisionError):
+            broken = True                        # a math domain error is a broken rule too
+        if broken:
             raise GeometryError(f"{_describe(spec, rule.names, values)}: {rule.en}")
     return values

@@ -144,6 +144,7 @@ class WorkbookSpec:
     sheets: list
     results: list
     summary: list = field(default_factory=list)
+    highlights: tuple = ()        # results the command line reports after a build
 
     def __post_init__(self):
         self.parameter = {p.key: p for p in self.parameters}
@@ -199,7 +200,7 @@ def _grid(entry):
                     stop=stop, step=entry.get("step"), rows=entry.get("rows"), axis=axis)
 
 
-def _instantiate(member, prefix, grid, members, aliases):
+def _instantiate(member, prefix, grid, members, aliases, summary):
     """A column-set member placed on a grid: keys of the set get the prefix,
     ``crank_angle`` stands for the grid and each alias for the key it names."""
     def rename(key):
@@ -216,7 +217,8 @@ def _instantiate(member, prefix, grid, members, aliases):
                              (":" + m.group(2) if m.group(2) else "") + "}", template)
 
     entry = dict(member, key=prefix + member["key"], formula=rewrite(member.get("formula")),
-                 first=rewrite(member.get("first")))
+                 first=rewrite(member.get("first")),
+                 summary=member.get("summary", False) and summary)
     function = Quantity(key="", kind="", unit="-", zh="", en="", formula=None,
                         calc=member["calc"]).calc_function()
     args = {name: member.get("args", {}).get(name, name)
@@ -272,6 +274,9 @@ def load(name):
     rules = [Rule(key=r["key"], fails=r["fails"], python=r["python"], names=tuple(r["names"]),
                   zh=r["zh"], en=r["en"]) for r in data.get("rule", [])]
     columnsets = {c["key"]: c["column"] for c in data.get("columnset", [])}
+    # A member of any set, referred to from a set placed with a prefix, is the
+    # same-prefixed column (pos_gas_force reads pos_cylinder_pressure).
+    all_members = {m["key"] for members in columnsets.values() for m in members}
     sheets = []
     for s in data["sheet"]:
         kind = s.get("kind", "series")
@@ -279,11 +284,12 @@ def load(name):
         entries = list(s.get("column", []))
         for use in s.get("use", []):
             members = columnsets[use["columnset"]]
-            names = {m["key"] for m in members}
+            names = all_members
             chosen = use.get("columns") or [m["key"] for m in members]
             by_key = {m["key"]: m for m in members}
             entries += [_instantiate(by_key[k], use.get("prefix", ""), grid, names,
-                                     use.get("aliases", {})) for k in chosen]
+                                     use.get("aliases", {}), use.get("summary", False))
+                        for k in chosen]
         if kind == "scalars":
             columns = tuple(_quantity(c, "scalar", sheet=s["key"]) for c in s.get("scalar", []))
         else:
@@ -299,7 +305,7 @@ def load(name):
         groups=data.get("groups", {}), parameters=parameters, input_tables=tables, rules=rules,
         scalars=[_quantity(q, "scalar") for q in data.get("scalar", [])], sheets=sheets,
         results=[_quantity(q, "result") for q in data.get("result", [])],
-        summary=_summary_quantities(main, series))
+        summary=_summary_quantities(main, series), highlights=tuple(head.get("highlights", ())))
     check(spec)
     return spec
 
