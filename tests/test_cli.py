@@ -77,7 +77,7 @@ def test_default_build_writes_output_preset(tmp_path):
     done = run_cli("build", "--step", "5", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "output" / "thesis.xlsx").is_file()
-    assert "peak pressure" in done.stdout
+    assert "cylinder_pressure_max" in done.stdout
 
 
 def test_help_and_listing():

@@ -12,6 +12,10 @@ class UnknownPresetError(CrankbookError):
     """A preset or workbook template name that does not exist."""
 
 
+class UnknownGroupError(CrankbookError):
+    """A class group number that the preset's group table does not have."""
+
+
 class UnknownParameterError(CrankbookError):
     """A ``--set`` key that is not a parameter of the workbook."""
 

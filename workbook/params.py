@@ -7,8 +7,8 @@ import math
 import tomllib
 
 from workbook import spec as specs
-from workbook.errors import (GeometryError, ParameterValueError, UnknownParameterError,
-                             UnknownPresetError)
+from workbook.errors import (GeometryError, ParameterValueError, UnknownGroupError,
+                             UnknownParameterError, UnknownPresetError)
 
 PRESETS = specs.TEMPLATES / "presets"
 
@@ -32,6 +32,25 @@ def load_preset(name):
             raise UnknownParameterError(f"preset {name!r} sets unknown parameter {key!r}")
         values[key] = value
     return spec, values, data["preset"]
+
+
+def apply_group(spec, values, preset, number):
+    """Values with class group ``number`` of the preset's group table applied."""
+    table_name = preset.get("groups")
+    if table_name is None:
+        raise UnknownPresetError(f"--group: preset {preset['name']!r} has no table of groups")
+    with open(specs.TEMPLATES / "groups" / f"{table_name}.toml", "rb") as handle:
+        groups = {g["number"]: g for g in tomllib.load(handle)["group"]}
+    if number not in groups:
+        raise UnknownGroupError(f"--group {number}: no such group in preset {preset['name']!r}; "
+                                f"groups are {min(groups)}–{max(groups)}")
+    values = dict(values)
+    for key, value in groups[number].items():
+        if key != "number":
+            if key not in spec.parameter:
+                raise UnknownParameterError(f"group {number} sets unknown parameter {key!r}")
+            values[key] = value
+    return values
 
 
 def parse_number(key, text):

@@ -265,7 +265,8 @@ def load(name):
     head = data["workbook"]
     main = _grid({"key": head["grid"], "zh": "曲轴转角 α", "en": "Crank angle α",
                   "start": head["grid_start"], "stop": head["grid_stop"],
-                  "step": head["grid_step"], **head.get("grid_labels", {})})
+                  "step": head["grid_step"], "axis": (head["grid_start"], head["grid_stop"], 90.0),
+                  **head.get("grid_labels", {})})
     grids = [main] + [_grid(g) for g in data.get("grid", [])]
     parameters = [Parameter(**p) for p in data["parameter"]]
     tables = [InputTable(key=t["key"], sheet=t["sheet"], capacity=t["capacity"],

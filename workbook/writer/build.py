@@ -59,7 +59,8 @@ def _write(spec, values, tables, grid, lang, preset, results, layout, filename):
     book.set_calc_mode("auto")
     styles = Styles(book)
     write_parameters_sheet(book, layout, values, results, preset, styles)
-    write_summary_sheet(book, layout, results, styles)
+    if spec.summary or spec.results:
+        write_summary_sheet(book, layout, results, styles)
     table_values = {key: list(values_) for key, values_ in tables.items()}
     for sheet_spec in spec.sheets:
         if sheet_spec.kind == "scalars":
