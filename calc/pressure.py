@@ -92,7 +92,11 @@ def trace_segment(crank_angle, trace_crank_angle):
     x = np.asarray(crank_angle, dtype=float)
     if angles.size < 2:
         return np.full(x.shape, np.nan)
-    return np.minimum(np.searchsorted(angles, x, side="right"), angles.size - 1).astype(float)
+    # A crank angle equal to a trace angle but for rounding (30° reached as π/6 and
+    # back) counts as equal, as the workbook's exact 30 does in MATCH.
+    nudge = 1e-12 * np.max(np.abs(angles))
+    return np.minimum(np.searchsorted(angles, x + nudge, side="right"),
+                      angles.size - 1).astype(float)
 
 
 def trace_pressure(crank_angle, trace_crank_angle, trace_pressure):

@@ -17,6 +17,8 @@ BUILDS = {
     "group6": ["--preset", "course-design", "--group", "6", "--step", "2"],
     "group12": ["--preset", "course-design", "--group", "12"],
     "optimization": ["--preset", "offset-optimization"],
+    # a measured trace whose points fall exactly on grid and position angles (30°, …)
+    "measured": ["--preset", "course-design", "--pressure", "{trace}", "--step", "3"],
 }
 EDIT = {"time_ratio": 1.12, "offset": 35.0, "speed": 900.0, "crank_cg_ratio": 0.0}
 
@@ -29,10 +31,14 @@ POS_NAMES = ["pos_crank_angle", "pos_cylinder_pressure", "pos_slider_displacemen
 @pytest.fixture(scope="module")
 def books(soffice, tmp_path_factory):
     tmp = tmp_path_factory.mktemp("course")
+    trace = tmp / "trace.csv"
+    angles = np.arange(0.0, 720.0, 2.0)
+    trace.write_text("\n".join(f"{a},{0.1 + 5 * np.exp(-((a - 370) / 25) ** 2)!r}"
+                               for a in angles))
     files = {}
     for name, args in BUILDS.items():
         path = tmp / f"{name}.xlsx"
-        done = run_cli("build", "-o", path, *args)
+        done = run_cli("build", "-o", path, *[a.replace("{trace}", str(trace)) for a in args])
         assert done.returncode == 0, done.stderr
         files[name] = path
     edited = tmp / "edited.xlsx"

@@ -79,4 +79,10 @@ def evaluate(spec, values, tables, grid):
     for q in spec.quantities():
         value = si_value(q.key)
         out[q.key] = value / units.si_factor(q.unit)
+    # Numeric grids as given, not through the SI round trip (462° must stay 462,
+    # not 461.99999999999994, or an exact MATCH against a trace shifts a row).
+    out[spec.grid.key] = np.asarray(grid, dtype=float)
+    for g in spec.grids:
+        if g.formula is None and g is not spec.grid:
+            out[g.key] = numeric_grid(g)
     return out
