@@ -33,7 +33,7 @@ def books(soffice, tmp_path_factory):
     tmp = tmp_path_factory.mktemp("course")
     trace = tmp / "trace.csv"
     angles = np.arange(0.0, 720.0, 2.0)
-    trace.write_text("\n".join(f"{a},{0.1 + 5 * np.exp(-((a - 370) / 25) ** 2)!r}"
+    trace.write_text("\n".join(f"{a},{float(0.1 + 5 * np.exp(-((a - 370) / 25) ** 2))!r}"
                                for a in angles))
     files = {}
     for name, args in BUILDS.items():
