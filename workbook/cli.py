@@ -8,7 +8,7 @@ import sys
 import time
 
 from workbook import __version__
-from workbook.errors import CrankbookError
+from workbook.errors import BuildOptionError, CrankbookError
 
 LANGS = ("zh", "en")
 
@@ -50,6 +50,19 @@ def _build_parser():
                     "q_ name back and compare it with numpy for the workbook's own parameters. "
                     "Exit 0 only when all agree within 1e-9 of each series' peak.")
     verify.add_argument("path", metavar="PATH")
+
+    audit = commands.add_parser(
+        "audit", help="audit a source document's numbers, or a workbook crankbook wrote",
+        description="DOCUMENT (thesis, course-report, compressor, offset-piston, "
+                    "balancing-ring or all): every number the document states beside an "
+                    "independent recomputation, with a verdict; writes an audit workbook "
+                    "(live formulas), a Markdown report beside it and, with --json, the "
+                    "findings as JSON. FILE.xlsx: recompute a workbook crankbook wrote from "
+                    "its p_ cells and report every q_ cell that no longer agrees.")
+    audit.add_argument("target", metavar="DOCUMENT|FILE.xlsx")
+    audit.add_argument("-o", "--output", metavar="PATH.xlsx",
+                       help="audit workbook (default: output/audit-<document>.xlsx)")
+    audit.add_argument("--json", metavar="PATH.json", help="also write the findings as JSON")
 
     commands.add_parser("presets", help="list the presets")
     params_cmd = commands.add_parser("parameters", help="list the parameters of a preset")
@@ -110,6 +123,52 @@ def _verify(args):
     return 0
 
 
+def _audit(args):
+    from pathlib import Path
+
+    from workbook import claims
+    from workbook.audit_book import write_audit_workbook, write_json, write_markdown
+
+    target = args.target
+    if target.lower().endswith((".xlsx", ".xlsm", ".xls")) or Path(target).is_file():
+        return _audit_workbook(target)
+    names = claims.document_names() if target == "all" else [target]
+    documents = [claims.load(name) for name in names]
+    output = Path(args.output or f"output/audit-{target}.xlsx")
+    if output.suffix.lower() != ".xlsx":
+        raise BuildOptionError(f"-o {output}: the audit workbook must end in .xlsx")
+    write_audit_workbook(documents, output)
+    write_markdown(documents, output.with_suffix(".md"))
+    if args.json:
+        write_json(documents, args.json)
+    for document in documents:
+        findings = document.findings()
+        counts = {s: sum(f["status"] == s for f in findings)
+                  for s in ("ok", "mismatch", "inconsistent", "unverifiable")}
+        print(f"{document.key:<16} {len(findings):>3} claims: " +
+              ", ".join(f"{n} {s}" for s, n in counts.items()))
+    print(f"wrote {output} and {output.with_suffix('.md')}"
+          + (f" and {args.json}" if args.json else ""))
+    return 0
+
+
+def _audit_workbook(path):
+    from workbook.workbook_audit import audit_workbook
+
+    spec, findings, recalculated = audit_workbook(path)
+    if recalculated:
+        print(f"{path} was saved without calculated values: recalculated in LibreOffice first")
+    if not findings:
+        print(f"{path}: every q_ cell agrees with the recomputation from its p_ cells "
+              f"({spec.key} workbook)")
+        return 0
+    print(f"{path}: {len(findings)} cell(s) disagree with the recomputation from the p_ cells:")
+    for f in findings:
+        expected = "" if f.expected != f.expected else f" (expected {f.expected:.6g})"
+        print(f"  {f.address:<28} {f.name:<36} {f.problem}: {f.stored!r}{expected}")
+    return 1
+
+
 def _presets(args):
     from workbook import params
     for name in params.preset_names():
@@ -128,7 +187,7 @@ def _parameters(args):
 
 def main(argv=None):
     args = _build_parser().parse_args(argv)
-    handlers = {"build": _build, "verify": _verify, "presets": _presets,
+    handlers = {"build": _build, "verify": _verify, "audit": _audit, "presets": _presets,
                 "parameters": _parameters}
     try:
         return handlers[args.command](args)

@@ -1,0 +1,109 @@
+"""Document claims (templates/claims/*.toml) and their recomputation.
+
+Each claim is a number a source document states, with the inputs it depends on,
+the recomputation as an Excel formula template ({input} placeholders) and as a
+Python expression over the same inputs in the document's units (the expression
+may call calc/ through the helpers below), a tolerance, and a note.  Kinds:
+
+* ``value``        — the document's number against the recomputation (mismatch)
+* ``consistency``  — against another statement of the same document (inconsistent)
+* ``range``        — a dimension against the design-rule range the document quotes;
+                     the recomputation is the nearest value inside the range
+* ``unverifiable`` — the document gives too little; the note says what is missing
+"""
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from calc import cycle, forces, kinematics, mechanism, optimization
+from workbook.errors import UnknownPresetError
+from workbook.spec import REFERENCE, TEMPLATES
+
+CLAIMS = TEMPLATES / "claims"
+SEEDS = Path(__file__).resolve().parent.parent.parent / "shared" / "seeds"
+STATUS_OF_KIND = {"value": "mismatch", "consistency": "inconsistent", "range": "mismatch"}
+DEFAULT_TOLERANCE = 0.005          # relative: documents print 3–4 significant digits
+
+HELPERS = {
+    "__builtins__": {}, "abs": abs, "min": min, "max": max, "round": round, "sum": sum,
+    "pi": math.pi, "sqrt": math.sqrt, "sin": math.sin, "cos": math.cos, "tan": math.tan,
+    "asin": math.asin, "acos": math.acos, "atan": math.atan, "radians": math.radians,
+    "degrees": math.degrees, "log10": math.log10, "exp": math.exp,
+    "np": np, "kinematics": kinematics, "forces": forces, "mechanism": mechanism,
+    "optimization": optimization, "cycle": cycle,
+}
+
+
+@dataclass
+class Claim:
+    key: str
+    section: str
+    claim: str
+    reported: float | None
+    unit: str
+    kind: str = "value"
+    inputs: dict = field(default_factory=dict)
+    formula: str | None = None
+    python: str | None = None
+    tolerance: float = DEFAULT_TOLERANCE
+    abs_tolerance: float = 0.0
+    note: str = ""
+
+    def recompute(self):
+        """The recomputed value in the document's unit, or None (unverifiable)."""
+        if self.kind == "unverifiable" or self.python is None:
+            return None
+        return float(eval(self.python, HELPERS, dict(self.inputs)))  # noqa: S307 (our data)
+
+    def status(self, recomputed):
+        if recomputed is None or self.reported is None:
+            return "unverifiable"
+        limit = max(self.tolerance * abs(recomputed), self.abs_tolerance)
+        return "ok" if abs(self.reported - recomputed) <= limit else STATUS_OF_KIND[self.kind]
+
+
+@dataclass
+class Document:
+    key: str
+    file: str
+    title: str
+    claims: list
+
+    def findings(self):
+        out = []
+        for claim in self.claims:
+            recomputed = claim.recompute()
+            out.append({"document": self.key, "section": claim.section, "claim": claim.claim,
+                        "reported": claim.reported, "unit": claim.unit,
+                        "recomputed": recomputed, "status": claim.status(recomputed),
+                        "note": claim.note, "key": claim.key})
+        return out
+
+
+def document_names():
+    return sorted(p.stem for p in CLAIMS.glob("*.toml"))
+
+
+def load(name):
+    path = CLAIMS / f"{name}.toml"
+    if not path.is_file():
+        raise UnknownPresetError(f"unknown document {name!r}; choose one of: "
+                                 + ", ".join(document_names() + ["all"]))
+    with open(path, "rb") as handle:
+        data = tomllib.load(handle)
+    head = data["document"]
+    claims = [Claim(**entry) for entry in data.get("claim", [])]
+    seen = set()
+    for claim in claims:
+        if claim.key in seen:
+            raise ValueError(f"{name}: claim key {claim.key!r} twice")
+        seen.add(claim.key)
+        if claim.kind not in (*STATUS_OF_KIND, "unverifiable"):
+            raise ValueError(f"{name}: claim {claim.key!r} has unknown kind {claim.kind!r}")
+        for ref in REFERENCE.findall(claim.formula or ""):
+            if ref[0] not in claim.inputs:
+                raise ValueError(f"{name}: formula of {claim.key!r} uses unknown {ref[0]!r}")
+    return Document(key=head["key"], file=head["file"], title=head["title"], claims=claims)
