@@ -292,3 +292,12 @@ def scaled_length(ratio, length):
 def at_least(value, bound):
     """1 where value ≥ bound, else 0 (a design check)."""
     return np.where(np.asarray(value) >= bound, 1.0, 0.0)
+
+
+def equivalent_ring_mass(reciprocating_mass, rotating_mass, crank_rod_ratio, samples=100000):
+    """Mass at the crank pin with the mean kinetic energy of the piston–rod group over a
+    revolution [kg] (seed 004 §2), by numerical averaging of ½m1v1² + ½m2v2² with the
+    series piston velocity v1 = Rω(sinα + λ/2·sin2α) and v2 = Rω (R = ω = 1)."""
+    alpha = np.linspace(0, 2 * np.pi, samples, endpoint=False)
+    v1 = np.sin(alpha) + crank_rod_ratio / 2 * np.sin(2 * alpha)
+    return float(np.mean(reciprocating_mass * v1 ** 2 + rotating_mass))

@@ -128,3 +128,21 @@ def feasible_objective(crank_radius, rod_length, offset, time_ratio, feasible):
     with np.errstate(invalid="ignore"):
         value = ineffective_force_sum(crank_radius, rod_length, offset, time_ratio)
     return np.where(np.asarray(feasible) == 1, value, np.nan)
+
+
+def peak_acceleration(crank_radius, rod_length, offset, speed, samples=72001):
+    """Largest piston acceleration over a revolution [m/s²] (dense sampling)."""
+    from calc.kinematics import piston_acceleration_exact
+    phi = np.linspace(0, 2 * np.pi, samples)
+    return float(np.max(np.abs(piston_acceleration_exact(phi, crank_radius, rod_length, offset,
+                                                          speed))))
+
+
+def peak_side_force_power_stroke(crank_radius, rod_length, offset, axial_force,
+                                 samples=72001):
+    """Largest piston side force P·|tanβ| over the power stroke (TDC to BDC) [N]."""
+    from calc.kinematics import rod_angle
+    a, b, e = crank_radius, rod_length, offset
+    bdc = np.pi + np.arcsin(e / (b - a)) - np.arcsin(e / (a + b))
+    phi = np.linspace(0, bdc, samples)
+    return float(axial_force * np.max(np.abs(np.tan(rod_angle(phi, a, b, e)))))

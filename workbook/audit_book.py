@@ -7,7 +7,7 @@ from pathlib import Path
 import xlsxwriter
 from xlsxwriter.utility import xl_col_to_name
 
-from workbook.spec import REFERENCE
+from workbook.claims import INPUT
 from workbook.writer.build import FIXED_TIME
 from workbook.writer.styles import Styles
 
@@ -149,7 +149,7 @@ def _write_document_sheet(book, document, name, styles, status_formats):
         ws.write(row, col_of["unit"], claim.unit)
         recomputed = finding["recomputed"]
         if claim.formula and recomputed is not None:
-            formula = "=" + REFERENCE.sub(lambda m: cells[m.group(1)], claim.formula)
+            formula = "=" + INPUT.sub(lambda m: cells[m.group(1)], claim.formula)
             ws.write_formula(row, col_of["recomputed"], formula, None, recomputed)
         elif recomputed is not None:
             ws.write_number(row, col_of["recomputed"], recomputed)

@@ -20,9 +20,12 @@ import numpy as np
 
 from calc import cycle, forces, kinematics, mechanism, optimization
 from workbook.errors import UnknownPresetError
-from workbook.spec import REFERENCE, TEMPLATES
+import re
+
+from workbook.spec import TEMPLATES
 
 CLAIMS = TEMPLATES / "claims"
+INPUT = re.compile(r"\{([A-Za-z_][A-Za-z_0-9]*)\}")      # {name} of a claim's input
 SEEDS = Path(__file__).resolve().parent.parent.parent / "shared" / "seeds"
 STATUS_OF_KIND = {"value": "mismatch", "consistency": "inconsistent", "range": "mismatch"}
 DEFAULT_TOLERANCE = 0.005          # relative: documents print 3–4 significant digits
@@ -42,8 +45,8 @@ class Claim:
     key: str
     section: str
     claim: str
-    reported: float | None
     unit: str
+    reported: float | None = None      # None where the extraction lost the number
     kind: str = "value"
     inputs: dict = field(default_factory=dict)
     formula: str | None = None
@@ -103,7 +106,7 @@ def load(name):
         seen.add(claim.key)
         if claim.kind not in (*STATUS_OF_KIND, "unverifiable"):
             raise ValueError(f"{name}: claim {claim.key!r} has unknown kind {claim.kind!r}")
-        for ref in REFERENCE.findall(claim.formula or ""):
-            if ref[0] not in claim.inputs:
-                raise ValueError(f"{name}: formula of {claim.key!r} uses unknown {ref[0]!r}")
+        for ref in INPUT.findall(claim.formula or ""):
+            if ref not in claim.inputs:
+                raise ValueError(f"{name}: formula of {claim.key!r} uses unknown {ref!r}")
     return Document(key=head["key"], file=head["file"], title=head["title"], claims=claims)
