@@ -117,6 +117,10 @@ def _write_book(documents, filename):
     chart.set_x_axis({"name": "claims"})
     chart.set_size({"width": 640, "height": 300})
     summary.insert_chart(last + 3, 0, chart)
+    for ws in book.worksheets():
+        ws.set_paper(9)
+        ws.set_landscape()
+        ws.fit_to_pages(1, 0)
     summary.activate()
     book.close()
 
