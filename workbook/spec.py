@@ -17,6 +17,11 @@ from workbook import units
 from workbook.errors import UnknownPresetError
 
 TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
+# Functions newer than Excel 2010 or volatile: a workbook must open in Excel 2010,
+# LibreOffice and WPS and recompute the same everywhere.
+FORBIDDEN = re.compile(r"\b(FILTER|SORT|SORTBY|UNIQUE|XLOOKUP|XMATCH|LET|LAMBDA|SEQUENCE|"
+                       r"IFS|SWITCH|CONCAT|TEXTJOIN|MAXIFS|MINIFS|RANDARRAY|OFFSET|INDIRECT|"
+                       r"NOW|TODAY|RAND|RANDBETWEEN)\s*\(")
 REFERENCE = re.compile(r"\{([a-z_0-9]+)(?::(head|tail|prev|last))?\}")
 ROW_INDEX = "row_index"        # {row_index}: 0-based row number within the grid
 
@@ -327,6 +332,10 @@ def check(spec):
     for q in spec.quantities():
         if q.is_grid and q.formula is None:
             continue
+        bad = FORBIDDEN.search((q.formula or "") + (q.first or ""))
+        if bad:
+            raise ValueError(f"{spec.key}: formula of {q.key!r} uses {bad.group(1)}, which "
+                             f"Excel 2010 lacks or which is volatile")
         for ref in q.references():
             if ref not in known:
                 raise ValueError(f"{spec.key}: formula of {q.key!r} refers to unknown {ref!r}")

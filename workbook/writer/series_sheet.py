@@ -5,6 +5,7 @@ from xlsxwriter.utility import xl_rowcol_to_cell
 
 from workbook.formulas import fill, quote_sheet
 from workbook.writer.charts import add_quantity_chart
+from workbook.writer.fast_sheet import FastWorksheet
 from workbook.writer.layout import FIRST_ROW, label, unit_text
 
 COLUMN_WIDTH = 15
@@ -26,7 +27,7 @@ def _headers(ws, col, item, unit, layout, styles, width=COLUMN_WIDTH):
 def write_series_sheet(book, sheet_spec, layout, results, styles):
     spec, locator = layout.spec, layout.locator
     name = layout.sheet_name[sheet_spec.key]
-    ws = book.add_worksheet(name)
+    ws = book.add_worksheet(name, worksheet_class=FastWorksheet)
     ws.write(0, 0, label(sheet_spec, layout.lang, "title_"), styles.title)
     ws.write(1, 0, label(sheet_spec, layout.other, "title_"), styles.subtitle)
     ws.set_row(FIRST_ROW - 3, 42)

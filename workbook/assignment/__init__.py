@@ -1,0 +1,1 @@
+"""Class packs: per-student assignments (assign) and automatic grading (grade)."""
