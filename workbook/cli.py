@@ -64,6 +64,28 @@ def _build_parser():
                        help="audit workbook (default: output/audit-<document>.xlsx)")
     audit.add_argument("--json", metavar="PATH.json", help="also write the findings as JSON")
 
+    assign = commands.add_parser(
+        "assign", help="write a workbook per student, the answer keys and a manifest",
+        description="Draw each student's parameters from the preset's assignment template "
+                    "(reproducible for the same roster and --seed), and write "
+                    "DIR/students/<id>.xlsx, DIR/keys/<id>.xlsx and DIR/manifest.csv.")
+    assign.add_argument("--preset", default="course-design")
+    assign.add_argument("--roster", required=True, metavar="ROSTER.csv",
+                        help="CSV with at least student_id,name (other columns are kept)")
+    assign.add_argument("--seed", type=int, default=1, help="variant seed (default 1)")
+    assign.add_argument("--lang", choices=LANGS, default="zh")
+    assign.add_argument("-o", "--output", required=True, metavar="DIR")
+
+    grade = commands.add_parser(
+        "grade", help="grade returned workbooks against the assignment in DIR",
+        description="Grade every .xlsx under SUBMISSIONS (any names, nested folders) against "
+                    "the parameters assigned in DIR; write gradebook.csv, an LMS import CSV, "
+                    "feedback/<id>.md and class-report.xlsx to RESULTS.")
+    grade.add_argument("directory", metavar="DIR")
+    grade.add_argument("submissions", metavar="SUBMISSIONS")
+    grade.add_argument("-o", "--output", metavar="RESULTS",
+                       help="results directory (default: DIR/results)")
+
     commands.add_parser("presets", help="list the presets")
     params_cmd = commands.add_parser("parameters", help="list the parameters of a preset")
     params_cmd.add_argument("--preset", default="thesis")
@@ -169,6 +191,28 @@ def _audit_workbook(path):
     return 1
 
 
+def _assign(args):
+    from workbook.assignment.assign import assign
+
+    started = time.perf_counter()
+    count = assign(args.preset, args.roster, args.seed, args.lang, args.output)
+    print(f"wrote {args.output}: {count} student workbooks, {count} answer keys, manifest.csv "
+          f"({time.perf_counter() - started:.1f} s)")
+    return 0
+
+
+def _grade(args):
+    from workbook.assignment.grade import grade
+
+    started = time.perf_counter()
+    summary = grade(args.directory, args.submissions, args.output)
+    print(f"graded {summary['graded']} of {summary['roster']} students "
+          f"({summary['missing']} missing, {summary['unreadable']} unreadable, "
+          f"{summary['unmatched']} files matching nobody) → {summary['output']} "
+          f"({time.perf_counter() - started:.1f} s)")
+    return 0
+
+
 def _presets(args):
     from workbook import params
     for name in params.preset_names():
@@ -187,7 +231,8 @@ def _parameters(args):
 
 def main(argv=None):
     args = _build_parser().parse_args(argv)
-    handlers = {"build": _build, "verify": _verify, "audit": _audit, "presets": _presets,
+    handlers = {"build": _build, "verify": _verify, "audit": _audit, "assign": _assign,
+                "grade": _grade, "presets": _presets,
                 "parameters": _parameters}
     try:
         return handlers[args.command](args)

@@ -42,3 +42,11 @@ class WorkbookReadError(CrankbookError):
 
 class RecalculationError(CrankbookError):
     """LibreOffice is missing or failed to recalculate a workbook."""
+
+
+class RosterError(CrankbookError):
+    """A roster that is missing, malformed, or has empty or duplicate ids."""
+
+
+class AssignmentDirError(CrankbookError):
+    """A directory that `assign` did not write (no manifest), or one it cannot use."""

@@ -1,0 +1,87 @@
+"""`crankbook assign`: a workbook per student, the answer keys and a manifest."""
+import csv
+import json
+import os
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+from workbook import __version__, evaluate, params
+from workbook.assignment import template as templates
+from workbook.assignment.student_book import write_student_workbook
+from workbook.assignment.variants import draw_class, fingerprint, read_roster
+from workbook.errors import BuildOptionError
+from workbook.writer.build import write_workbook
+
+MANIFEST = "manifest.csv"
+SETTINGS = "assignment.json"
+RUBRIC = "assignment.toml"
+
+
+def given_data(assignment, spec, values):
+    """The numbers a student is given (e.g. the cylinder pressure every degree)."""
+    if not assignment.given:
+        return {}
+    grid = evaluate.crank_angle_grid(spec, assignment.given_step) if assignment.given_step \
+        else expected_grid(assignment, spec)
+    out = evaluate.evaluate(spec, values, {}, grid)
+    return {key: [float(v) for v in out[key]] for key in assignment.given}
+
+
+def expected_grid(assignment, spec, step=None):
+    if assignment.grid_angles is not None:
+        import numpy as np
+        return np.asarray(assignment.grid_angles, dtype=float)
+    return evaluate.crank_angle_grid(spec, step)
+
+
+def assign(preset, roster_path, seed, lang, outdir, progress=True):
+    spec, base, preset_meta = params.load_preset(preset)
+    assignment = templates.for_preset(preset)
+    rows, fields = read_roster(roster_path)
+    outdir = Path(outdir)
+    if outdir.exists() and any(outdir.iterdir()):
+        raise BuildOptionError(f"-o {outdir}: exists and is not empty; give a new directory")
+    ids = [r["student_id"] for r in rows]
+    variants = draw_class(assignment, spec, base, ids, seed)
+    keys = [p.key for p in spec.parameters]
+    staging = Path(tempfile.mkdtemp(prefix=".assign-", dir=outdir.parent if outdir.parent.exists()
+                                    else None))
+    try:
+        for number, row in enumerate(rows, start=1):
+            sid = row["student_id"]
+            values = params.validate(spec, dict(variants[sid]))
+            key_results = write_workbook(spec, values, {}, evaluate.crank_angle_grid(spec), lang,
+                                         preset_meta, staging / "keys" / f"{sid}.xlsx")
+            expected = evaluate.evaluate(spec, values, {}, expected_grid(assignment, spec)) \
+                if assignment.grid_angles is not None else key_results
+            sizes = {g.key: len(expected[g.key]) for g in spec.grids}
+            write_student_workbook(staging / "students" / f"{sid}.xlsx", assignment, spec, row,
+                                   values, given_data(assignment, spec, values), lang, sizes)
+            if progress:
+                print(f"\rassign: {number}/{len(rows)} students", end="", file=sys.stderr,
+                      flush=True)
+        if progress:
+            print(file=sys.stderr)
+        extra = [f for f in fields if f not in ("student_id", "name")]
+        with open(staging / MANIFEST, "w", newline="", encoding="utf-8") as handle:
+            writer = csv.writer(handle, lineterminator="\n")
+            writer.writerow(["student_id", "name", *extra, *[f"p_{k}" for k in keys],
+                             "fingerprint"])
+            for row in rows:
+                values = variants[row["student_id"]]
+                writer.writerow([row["student_id"], row["name"], *[row.get(f, "") for f in extra],
+                                 *[repr(float(values[k])) for k in keys],
+                                 fingerprint(values, keys)])
+        shutil.copy(templates.ASSIGNMENTS / f"{assignment.key}.toml", staging / RUBRIC)
+        (staging / SETTINGS).write_text(json.dumps(
+            {"assignment": assignment.key, "preset": preset, "seed": seed, "lang": lang,
+             "crankbook": __version__}, indent=1) + "\n", encoding="utf-8")
+        if outdir.exists():
+            outdir.rmdir()
+        os.replace(staging, outdir)
+    finally:
+        if staging.exists():
+            shutil.rmtree(staging)
+    return len(rows)

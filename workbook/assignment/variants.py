@@ -1,0 +1,109 @@
+"""Per-student parameters: drawn reproducibly from the template's ranges, rounded as a
+teacher would print them, each a valid mechanism, no two alike."""
+import csv
+import hashlib
+import math
+
+import numpy as np
+
+from workbook import evaluate, params
+from workbook.errors import CrankbookError, RosterError
+
+MAX_ATTEMPTS = 500
+
+
+def read_roster(path):
+    """(rows, fieldnames) of a roster CSV with unique, non-empty student_id and a name."""
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as handle:
+            reader = csv.DictReader(handle)
+            fields = [f.strip() for f in (reader.fieldnames or [])]
+            rows = [{(k or "").strip(): (v or "").strip() for k, v in row.items()}
+                    for row in reader]
+    except FileNotFoundError:
+        raise RosterError(f"roster {path}: no such file") from None
+    except (UnicodeDecodeError, csv.Error) as error:
+        raise RosterError(f"roster {path}: not a readable CSV ({error})") from None
+    for column in ("student_id", "name"):
+        if column not in fields:
+            raise RosterError(f"roster {path}: needs a '{column}' column (has: "
+                              f"{', '.join(fields) or 'no header'})")
+    if not rows:
+        raise RosterError(f"roster {path}: has no students")
+    seen = set()
+    for number, row in enumerate(rows, start=2):
+        sid = row["student_id"]
+        if not sid:
+            raise RosterError(f"roster {path}, line {number}: empty student_id")
+        if not all(c.isalnum() or c in "-_." for c in sid):
+            raise RosterError(f"roster {path}, line {number}: student_id {sid!r} may hold only "
+                              f"letters, digits, '-', '_' and '.'")
+        if sid in seen:
+            raise RosterError(f"roster {path}, line {number}: duplicate student_id {sid!r}")
+        seen.add(sid)
+    return rows, fields
+
+
+def student_rng(seed, student_id):
+    digest = hashlib.sha256(f"{seed}:{student_id}".encode()).digest()
+    return np.random.default_rng(int.from_bytes(digest[:8], "big"))
+
+
+def _draw(assignment, base, rng):
+    values = dict(base)
+    formulas = {}
+    for key, rule in assignment.variant.items():
+        if "choices" in rule:
+            values[key] = float(rule["choices"][int(rng.integers(len(rule["choices"])))])
+        elif "formula" in rule:
+            formulas[key] = rule
+        else:
+            count = int(round((rule["max"] - rule["min"]) / rule["step"]))
+            values[key] = round(rule["min"] + rule["step"] * int(rng.integers(count + 1)), 6)
+    for key, rule in formulas.items():
+        value = eval(rule["formula"], {"__builtins__": {}, "pi": math.pi}, dict(values))  # noqa: S307
+        values[key] = round(round(value / rule["step"]) * rule["step"], 6)
+    return values
+
+
+def acceptable(assignment, spec, values):
+    """True when the parameters make a mechanism the assignment can use."""
+    try:
+        values = params.validate(spec, dict(values))
+        out = evaluate.evaluate(spec, values, {}, evaluate.crank_angle_grid(spec, 30.0))
+    except CrankbookError:
+        return False
+    bound = assignment.constraints.get("min_transmission_angle")
+    if bound is not None and out.get("min_transmission_angle", 90.0) < bound:
+        return False
+    separation = assignment.constraints.get("min_position_separation")
+    if separation is not None and "raw_crank_angle" in out:
+        angles = np.sort(np.asarray(out["raw_crank_angle"]) % 360)
+        gaps = np.diff(np.concatenate([angles, [angles[0] + 360]]))
+        if gaps.min() < separation:
+            return False
+    return True
+
+
+def fingerprint(values, keys):
+    text = ";".join(f"{k}={values[k]!r}" for k in keys)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def draw_class(assignment, spec, base, student_ids, seed):
+    """student_id -> parameter values, reproducible for the same ids and seed."""
+    out, used = {}, set()
+    keys = sorted(assignment.variant)
+    for sid in student_ids:
+        rng = student_rng(seed, sid)
+        for _ in range(MAX_ATTEMPTS):
+            values = _draw(assignment, base, rng)
+            mark = fingerprint(values, keys)
+            if mark not in used and acceptable(assignment, spec, values):
+                used.add(mark)
+                out[sid] = values
+                break
+        else:
+            raise CrankbookError(f"could not draw a valid, distinct parameter set for {sid!r} "
+                                 f"in {MAX_ATTEMPTS} attempts; widen the template's ranges")
+    return out
