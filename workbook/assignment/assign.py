@@ -5,6 +5,7 @@ import os
 import shutil
 import sys
 import tempfile
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from workbook import __version__, evaluate, params
@@ -36,6 +37,24 @@ def expected_grid(assignment, spec, step=None):
     return evaluate.crank_angle_grid(spec, step)
 
 
+def _write_student(job):
+    """Write one student's key and workbook (runs in a worker process)."""
+    preset, assignment_key, row, drawn, lang, staging = job
+    spec, _, preset_meta = params.load_preset(preset)
+    assignment = templates.load(assignment_key)
+    staging = Path(staging)
+    sid = row["student_id"]
+    values = params.validate(spec, dict(drawn))
+    key_results = write_workbook(spec, values, {}, evaluate.crank_angle_grid(spec), lang,
+                                 preset_meta, staging / "keys" / f"{sid}.xlsx")
+    expected = evaluate.evaluate(spec, values, {}, expected_grid(assignment, spec)) \
+        if assignment.grid_angles is not None else key_results
+    sizes = {g.key: len(expected[g.key]) for g in spec.grids}
+    write_student_workbook(staging / "students" / f"{sid}.xlsx", assignment, spec, row, values,
+                           given_data(assignment, spec, values), lang, sizes)
+    return sid
+
+
 def assign(preset, roster_path, seed, lang, outdir, progress=True):
     spec, base, preset_meta = params.load_preset(preset)
     assignment = templates.for_preset(preset)
@@ -49,19 +68,14 @@ def assign(preset, roster_path, seed, lang, outdir, progress=True):
     staging = Path(tempfile.mkdtemp(prefix=".assign-", dir=outdir.parent if outdir.parent.exists()
                                     else None))
     try:
-        for number, row in enumerate(rows, start=1):
-            sid = row["student_id"]
-            values = params.validate(spec, dict(variants[sid]))
-            key_results = write_workbook(spec, values, {}, evaluate.crank_angle_grid(spec), lang,
-                                         preset_meta, staging / "keys" / f"{sid}.xlsx")
-            expected = evaluate.evaluate(spec, values, {}, expected_grid(assignment, spec)) \
-                if assignment.grid_angles is not None else key_results
-            sizes = {g.key: len(expected[g.key]) for g in spec.grids}
-            write_student_workbook(staging / "students" / f"{sid}.xlsx", assignment, spec, row,
-                                   values, given_data(assignment, spec, values), lang, sizes)
-            if progress:
-                print(f"\rassign: {number}/{len(rows)} students", end="", file=sys.stderr,
-                      flush=True)
+        jobs = [(preset, assignment.key, row, variants[row["student_id"]], lang, str(staging))
+                for row in rows]
+        workers = max(1, min(os.cpu_count() or 1, len(jobs)))
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            for number, _ in enumerate(pool.map(_write_student, jobs), start=1):
+                if progress:
+                    print(f"\rassign: {number}/{len(rows)} students", end="", file=sys.stderr,
+                          flush=True)
         if progress:
             print(file=sys.stderr)
         extra = [f for f in fields if f not in ("student_id", "name")]

@@ -37,7 +37,7 @@ def write_student_workbook(path, assignment, spec, student, values, given, lang,
 
 
 def _write(filename, assignment, spec, student, values, given, lang, row_counts):
-    book = xlsxwriter.Workbook(filename, {"strings_to_numbers": False,
+    book = xlsxwriter.Workbook(filename, {"in_memory": True, "strings_to_numbers": False,
                                           "strings_to_formulas": False})
     book.set_properties({"title": getattr(assignment, lang), "author": "crankbook",
                          "created": FIXED_TIME})

@@ -51,7 +51,7 @@ def write_workbook(spec, values, tables, grid, lang, preset, path):
 
 
 def _write(spec, values, tables, grid, lang, preset, results, layout, filename):
-    book = xlsxwriter.Workbook(filename, {"strings_to_numbers": False,
+    book = xlsxwriter.Workbook(filename, {"in_memory": True, "strings_to_numbers": False,
                                           "strings_to_formulas": False})
     book.set_properties({"title": getattr(spec, lang), "subject": preset["name"],
                          "author": "crankbook", "created": FIXED_TIME,
