@@ -56,7 +56,8 @@ class Grade:
     name: str
     status: str = "missing"
     items: dict = field(default_factory=dict)       # item key -> (points, [CellResult])
-    flags: list = field(default_factory=list)
+    flags: list = field(default_factory=list)     # tokens: wrong-student, duplicate, …
+    details: list = field(default_factory=list)   # what each flag is about, in words
     files: list = field(default_factory=list)
     problem: str = ""
 
@@ -271,6 +272,7 @@ def grade(directory, submissions, output=None, progress=True):
         g = grades[sid]
         if len(g.files) > 1:
             g.flags.append("multiple-submissions")
+            g.details.append(f"graded {sub.relative} of {len(g.files)} files")
         if sub.problem:
             g.status, g.problem = "unreadable", sub.problem
             continue
@@ -294,7 +296,7 @@ def grade(directory, submissions, output=None, progress=True):
 def _flag(g, sub, by_id, fingerprints, spec):
     assigned = by_id[g.student_id]
     if sub.inside_id and sub.inside_id != g.student_id and sub.inside_id in by_id:
-        g.flags.append(f"wrong-student:{sub.inside_id}")
+        _add(g, "wrong-student", f"the file is {sub.inside_id}'s workbook")
     changed = []
     for parameter in spec.parameters:
         if parameter.key not in sub.parameters:
@@ -304,7 +306,7 @@ def _flag(g, sub, by_id, fingerprints, spec):
         if have is None or abs(have - want) > 1e-9 * max(1.0, abs(want)):
             changed.append(parameter.key)
     if changed:
-        g.flags.append("parameters-changed:" + ",".join(changed))
+        _add(g, "parameters-changed", "changed: " + ", ".join(changed))
         # whose parameters are these?
         for sid, row in by_id.items():
             if sid != g.student_id and all(
@@ -312,11 +314,17 @@ def _flag(g, sub, by_id, fingerprints, spec):
                     abs(_number(sub.parameters[p.key]) - float(row[f"p_{p.key}"])) <= 1e-9 *
                     max(1.0, abs(float(row[f"p_{p.key}"]))) for p in spec.parameters
                     if p.key in sub.parameters):
-                if not any(f.startswith("wrong-student") for f in g.flags):
-                    g.flags.append(f"wrong-student:{sid}")
+                _add(g, "wrong-student", f"the parameters are {sid}'s")
                 break
     if all(c.reason == "no answer" for _, cells in g.items.values() for c in cells):
-        g.flags.append("blank")
+        _add(g, "blank", "no answer at all")
+
+
+def _add(g, flag, detail):
+    if flag not in g.flags:
+        g.flags.append(flag)
+    if detail not in g.details:
+        g.details.append(detail)
 
 
 def _flag_duplicates(grades, chosen):
@@ -331,7 +339,5 @@ def _flag_duplicates(grades, chosen):
             other = seen.get(mark)
             if other and other != sid:
                 for a, b in ((sid, other), (other, sid)):
-                    flag = f"duplicate:{b}"
-                    if flag not in grades[a].flags:
-                        grades[a].flags.append(flag)
+                    _add(grades[a], "duplicate", f"same {mark[0]} as {b}")
             seen.setdefault(mark, sid)

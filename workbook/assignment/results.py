@@ -54,24 +54,29 @@ def write_results(output, assignment, spec, grades, unmatched):
     output = Path(output)
     output.mkdir(parents=True, exist_ok=True)
     items = [i.key for i in assignment.items]
-    header = ["student_id", "name", "status", "score", "max_score", "flags", *items]
+    header = ["student_id", "name", "status", "score", "max_score", "flags", *items, "notes"]
     rows = [header]
     for g in grades:
+        notes = g.details + ([g.problem] if g.problem else []) + \
+            ([f"files: {', '.join(g.files)}"] if g.files else [])
         rows.append([g.student_id, g.name, g.status, round(g.score, 2), assignment.max_score,
-                     ";".join(g.flags + ([f"reason={g.problem}"] if g.problem else [])),
-                     *[round(g.items[k][0], 2) if k in g.items else 0 for k in items]])
+                     ";".join(g.flags),
+                     *[round(g.items[k][0], 2) if k in g.items else 0 for k in items],
+                     "; ".join(notes)])
     for sub in unmatched:
-        reason = f";reason={sub.problem}" if sub.problem else ""
-        rows.append(["", "", "unmatched", "", assignment.max_score,
-                     f"file={sub.relative};inside_id={sub.inside_id or ''}{reason}",
-                     *["" for _ in items]])
+        notes = [f"file {sub.relative} matches no roster student"
+                 + (f" (it says {sub.inside_id})" if sub.inside_id else "")]
+        if sub.problem:
+            notes.append(sub.problem)
+        rows.append(["", "", "unmatched", "", assignment.max_score, "", *["" for _ in items],
+                     "; ".join(notes)])
     _atomic_text(output / "gradebook.csv", _csv(rows))
 
     lms = [["identifier", "grade", "feedback"]]
     for g in grades:
         summary = {"graded": f"{g.score:.1f}/{assignment.max_score:g}",
                    "missing": "no submission", "unreadable": f"unreadable: {g.problem}"}[g.status]
-        flags = f" Flags: {', '.join(g.flags)}." if g.flags else ""
+        flags = f" Flags: {', '.join(g.flags)} ({'; '.join(g.details)})." if g.flags else ""
         lms.append([g.student_id, round(g.score, 2) if g.status == "graded" else 0,
                     f"{summary}.{flags} See feedback/{g.student_id}.md."])
     _atomic_text(output / "lms-import.csv", _csv(lms))
@@ -88,7 +93,7 @@ def _feedback(g, assignment, spec):
         return "\n".join(lines) + "\n"
     lines += [f"Score: **{g.score:.2f} / {assignment.max_score:g}**", ""]
     if g.flags:
-        lines += ["Flags: " + ", ".join(g.flags), ""]
+        lines += ["Flags: " + ", ".join(g.flags) + " — " + "; ".join(g.details), ""]
     for item in assignment.items:
         points, cells = g.items[item.key]
         quantity = spec.quantity[item.key]
@@ -161,7 +166,7 @@ def _class_report(path, assignment, spec, grades):
     hist.set_legend({"none": True})
     dist.insert_chart(2, 4, hist)
     students = book.add_worksheet("Students")
-    for col, text in enumerate(["student_id", "name", "status", "score", "flags"]):
+    for col, text in enumerate(["student_id", "name", "status", "score", "flags", "notes"]):
         students.write(0, col, text, styles.header)
     for row, g in enumerate(grades, start=1):
         students.write_string(row, 0, g.student_id)
@@ -169,6 +174,7 @@ def _class_report(path, assignment, spec, grades):
         students.write_string(row, 2, g.status)
         students.write_number(row, 3, round(g.score, 2))
         students.write_string(row, 4, ";".join(g.flags))
+        students.write_string(row, 5, "; ".join(g.details + ([g.problem] if g.problem else [])))
     book.close()
     os.chmod(temporary, 0o644)
     os.replace(temporary, path)
