@@ -13,8 +13,7 @@ quantities of the rod are positive counter-clockwise.
 """
 import numpy as np
 
-from calc.kinematics import (crank_angle_from_axis, piston_acceleration_exact,
-                             piston_velocity_exact, rod_angle)
+from calc.kinematics import crank_angle_from_axis, piston_acceleration_exact, rod_angle
 
 
 # --- synthesis from stroke, offset and time ratio ---------------------------------

@@ -4,7 +4,6 @@ the exact scores the rubric gives; no answer leaks; bad input."""
 import csv
 import hashlib
 import io
-import math
 import shutil
 import zipfile
 
@@ -179,8 +178,6 @@ def test_consequential_errors_earn_the_rubric_fraction(graded, pack):
             continue
         theirs = np.atleast_1d(own[item.key])
         right = np.atleast_1d(np.asarray(true[item.key], dtype=float))
-        alternatives = [np.atleast_1d(np.asarray(graded["perfect"]["s06"].get(a, np.nan)))
-                        for a in item.alternatives]
         fractions = []
         for i, value in enumerate(theirs):
             ok = abs(value - right[i]) <= max(item.tolerance * abs(right[i]), item.abs_floor)

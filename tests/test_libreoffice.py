@@ -4,7 +4,6 @@ Workbooks are built through the command line and parameter sets are also written
 into the cells of a built workbook (as a user editing in Excel would); all files
 are recalculated in one LibreOffice run.
 """
-import math
 
 import numpy as np
 import openpyxl

@@ -79,7 +79,7 @@ def kinetostatics(phi, r=0.1404, l=0.4933, e=0.05, w=610 * np.pi / 30, kk=0.35, 
                   q1=160.0, q2=130.0, q3=200.0, c1=0.25, g=9.81, gas=None):
     """Everything the virtual-work test needs, straight from calc."""
     gas = 40000 * np.exp(-((phi - 2.2 * np.pi) / 0.5) ** 2) if gas is None else gas
-    m1, m2, m3 = q1 / g, q2 / g, q3 / g
+    m2, m3 = q2 / g, q3 / g
     psi = k.crank_angle_from_axis(phi, r, l, e)
     beta = k.rod_angle(phi, r, l, e)
     v = k.piston_velocity_exact(phi, r, l, e, w)

@@ -1,12 +1,11 @@
 """The audit outputs: a workbook with one live sheet per document, JSON, Markdown."""
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import xlsxwriter
 from xlsxwriter.utility import xl_col_to_name
 
+from workbook.atomic import atomic_path
 from workbook.claims import INPUT
 from workbook.writer.build import FIXED_TIME
 from workbook.writer.styles import Styles
@@ -23,17 +22,8 @@ FINDING_FIELDS = ["document", "section", "claim", "reported", "unit", "recompute
 
 
 def _atomic(path, write):
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(handle)
-    try:
+    with atomic_path(path) as temporary:
         write(temporary)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    finally:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
 
 
 def write_json(documents, path):

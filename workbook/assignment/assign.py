@@ -60,13 +60,15 @@ def assign(preset, roster_path, seed, lang, outdir, progress=True):
     assignment = templates.for_preset(preset)
     rows, fields = read_roster(roster_path)
     outdir = Path(outdir)
+    if outdir.exists() and not outdir.is_dir():
+        raise BuildOptionError(f"-o {outdir}: is a file; give a new directory")
     if outdir.exists() and any(outdir.iterdir()):
         raise BuildOptionError(f"-o {outdir}: exists and is not empty; give a new directory")
     ids = [r["student_id"] for r in rows]
     variants = draw_class(assignment, spec, base, ids, seed)
     keys = [p.key for p in spec.parameters]
-    staging = Path(tempfile.mkdtemp(prefix=".assign-", dir=outdir.parent if outdir.parent.exists()
-                                    else None))
+    outdir.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{outdir.name}.", dir=outdir.parent))
     try:
         jobs = [(preset, assignment.key, row, variants[row["student_id"]], lang, str(staging))
                 for row in rows]

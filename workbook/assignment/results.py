@@ -5,12 +5,11 @@ a formula (starting with = + - @ or a control character) is prefixed with '.
 """
 import csv
 import io
-import os
-import tempfile
 from pathlib import Path
 
 import xlsxwriter
 
+from workbook.atomic import atomic_path
 from workbook.writer.build import FIXED_TIME
 from workbook.writer.layout import unit_text
 from workbook.writer.styles import Styles
@@ -26,12 +25,8 @@ def safe(value):
 
 
 def _atomic_text(path, text):
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
-        stream.write(text)
-    os.chmod(temporary, 0o644)
-    os.replace(temporary, path)
+    with atomic_path(path) as temporary:
+        Path(temporary).write_text(text, encoding="utf-8", newline="")
 
 
 def _csv(rows):
@@ -83,7 +78,7 @@ def write_results(output, assignment, spec, grades, unmatched):
 
     for g in grades:
         _atomic_text(output / "feedback" / f"{g.student_id}.md", _feedback(g, assignment, spec))
-    _class_report(output / "class-report.xlsx", assignment, spec, grades)
+    _class_report(output / "class-report.xlsx", assignment, grades)
 
 
 def _feedback(g, assignment, spec):
@@ -108,10 +103,13 @@ def _feedback(g, assignment, spec):
     return "\n".join(lines) + "\n"
 
 
-def _class_report(path, assignment, spec, grades):
+def _class_report(path, assignment, grades):
+    with atomic_path(path) as temporary:
+        _write_class_report(temporary, assignment, grades)
+
+
+def _write_class_report(temporary, assignment, grades):
     graded = [g for g in grades if g.status == "graded"]
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    os.close(handle)
     book = xlsxwriter.Workbook(temporary)
     book.set_properties({"title": "Class report", "author": "crankbook", "created": FIXED_TIME})
     styles = Styles(book)
@@ -176,5 +174,3 @@ def _class_report(path, assignment, spec, grades):
         students.write_string(row, 4, ";".join(g.flags))
         students.write_string(row, 5, "; ".join(g.details + ([g.problem] if g.problem else [])))
     book.close()
-    os.chmod(temporary, 0o644)
-    os.replace(temporary, path)

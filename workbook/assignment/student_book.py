@@ -1,13 +1,10 @@
 """The student's workbook: the task, their parameters (p_), the given data, and
 empty answer blocks (a_) laid out like the guide's tables.  No formulas, no
 results: nothing the key computes is anywhere in the file."""
-import os
-import tempfile
-from pathlib import Path
-
 import xlsxwriter
 from xlsxwriter.utility import xl_rowcol_to_cell
 
+from workbook.atomic import atomic_path
 from workbook.formulas import quote_sheet
 from workbook.writer.build import FIXED_TIME
 from workbook.writer.layout import unit_text
@@ -23,17 +20,8 @@ def _both(zh, en, lang):
 
 def write_student_workbook(path, assignment, spec, student, values, given, lang, row_counts):
     """Write atomically.  ``given``: key -> list of numbers; ``row_counts``: grid -> rows."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp", dir=path.parent)
-    os.close(handle)
-    try:
+    with atomic_path(path) as temporary:
         _write(temporary, assignment, spec, student, values, given, lang, row_counts)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    finally:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
 
 
 def _write(filename, assignment, spec, student, values, given, lang, row_counts):

@@ -1,11 +1,10 @@
 """Assemble a workbook: evaluate in numpy, lay out, write every part, rename into place."""
 import datetime
-import os
-import tempfile
 from pathlib import Path
 
 import xlsxwriter
 
+from workbook.atomic import atomic_path
 from workbook.errors import BuildOptionError
 from workbook.evaluate import evaluate
 from workbook.writer.scalar_sheet import write_scalar_sheet
@@ -32,21 +31,10 @@ def write_workbook(spec, values, tables, grid, lang, preset, path):
     if path.suffix.lower() != ".xlsx":
         raise BuildOptionError(f"-o {path}: the output file must end in .xlsx")
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".xlsx.tmp",
-                                             dir=path.parent)
+        with atomic_path(path) as temporary:
+            _write(spec, values, tables, grid, lang, preset, results, layout, temporary)
     except OSError as error:
         raise BuildOptionError(f"-o {path}: cannot write there ({error.strerror})") from None
-    os.close(handle)
-    try:
-        _write(spec, values, tables, grid, lang, preset, results, layout, temporary)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)     # mkstemp's 0600 is not what a user expects
-        os.replace(temporary, path)
-    finally:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
     return results
 
 
