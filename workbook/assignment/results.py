@@ -173,4 +173,8 @@ def _write_class_report(temporary, assignment, grades):
         students.write_number(row, 3, round(g.score, 2))
         students.write_string(row, 4, ";".join(g.flags))
         students.write_string(row, 5, "; ".join(g.details + ([g.problem] if g.problem else [])))
+    for sheet in book.worksheets():
+        sheet.set_paper(9)
+        sheet.set_landscape()
+        sheet.fit_to_pages(1, 0)
     book.close()

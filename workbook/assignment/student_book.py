@@ -124,7 +124,7 @@ def _write(filename, assignment, spec, student, values, given, lang, row_counts)
                 for i in range(rows):
                     ws.write_blank(5 + i, col, None, answer)
                 define(f"a_{key}", name, 5, col, 5 + rows - 1)
-            ws.set_row(3, 48)
+            ws.set_row(3, 64)
             ws.freeze_panes(5, 1)
     for ws in book.worksheets():
         ws.set_paper(9)
