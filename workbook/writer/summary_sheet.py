@@ -24,7 +24,7 @@ def write_summary_sheet(book, layout, results, styles):
         layout.defined_names[f"q_{key}"] = \
             "=" + sheet_ref + "!" + xl_rowcol_to_cell(row, col, True, True)
 
-    for col, width in enumerate([34, 34, 9, 14, 16, 14, 16]):
+    for col, width in enumerate([56, 44, 9, 14, 16, 14, 16]):
         ws.set_column(col, col, width)
     ws.write(0, 0, f"{label(spec, lang)} — {'汇总' if lang == 'zh' else 'Summary'}", styles.title)
     ws.write(1, 0, "所有数值均为公式 / every value is a formula", styles.subtitle)
