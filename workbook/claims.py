@@ -12,14 +12,13 @@ may call calc/ through the helpers below), a tolerance, and a note.  Kinds:
 * ``unverifiable`` — the document gives too little; the note says what is missing
 """
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from calc import cycle, forces, kinematics, mechanism, optimization
-from workbook.errors import UnknownPresetError
+from workbook.toml_files import names_in, read_named
 import re
 
 from workbook.spec import TEMPLATES
@@ -87,16 +86,11 @@ class Document:
 
 
 def document_names():
-    return sorted(p.stem for p in CLAIMS.glob("*.toml"))
+    return names_in(CLAIMS)
 
 
 def load(name):
-    path = CLAIMS / f"{name}.toml"
-    if not path.is_file():
-        raise UnknownPresetError(f"unknown document {name!r}; choose one of: "
-                                 + ", ".join(document_names() + ["all"]))
-    with open(path, "rb") as handle:
-        data = tomllib.load(handle)
+    data = read_named(CLAIMS, name, "document", extra_choices=["all"])
     head = data["document"]
     claims = [Claim(**entry) for entry in data.get("claim", [])]
     seen = set()

@@ -7,6 +7,7 @@ import math
 import tomllib
 
 from workbook import spec as specs
+from workbook.toml_files import names_in, read_named
 from workbook.errors import (GeometryError, ParameterValueError, UnknownGroupError,
                              UnknownParameterError, UnknownPresetError)
 
@@ -14,17 +15,12 @@ PRESETS = specs.TEMPLATES / "presets"
 
 
 def preset_names():
-    return sorted(path.stem for path in PRESETS.glob("*.toml"))
+    return names_in(PRESETS)
 
 
 def load_preset(name):
     """(spec, values) of a preset: the template's defaults, then the preset's values."""
-    path = PRESETS / f"{name}.toml"
-    if not path.is_file():
-        raise UnknownPresetError(f"unknown preset {name!r}; choose one of: "
-                                 + ", ".join(preset_names()))
-    with open(path, "rb") as handle:
-        data = tomllib.load(handle)
+    data = read_named(PRESETS, name, "preset")
     spec = specs.load(data["preset"]["template"])
     values = {p.key: p.default for p in spec.parameters}
     for key, value in data.get("values", {}).items():
