@@ -124,6 +124,9 @@ def verify(path, workdir=None):
     path = Path(path)
     book = open_workbook(path)
     cached = named_values(book)
+    if not any(name.startswith("q_") for name in cached):
+        raise WorkbookReadError(f"{path}: has no q_ names, so nothing to verify (a student "
+                                f"workbook is checked with 'crankbook grade')")
     spec = spec_of(cached)
     values, tables, grid = inputs_of(spec, cached, path)
     status = cached.get("q_input_status")
