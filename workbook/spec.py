@@ -26,6 +26,12 @@ REFERENCE = re.compile(r"\{([a-z_0-9]+)(?::(head|tail|prev|last))?\}")
 ROW_INDEX = "row_index"        # {row_index}: 0-based row number within the grid
 
 
+def calc_function(path):
+    """The function a dotted path such as 'calc.kinematics.stroke' names."""
+    module, _, name = path.rpartition(".")
+    return getattr(importlib.import_module(module), name)
+
+
 @dataclass(frozen=True)
 class Parameter:
     key: str
@@ -105,8 +111,7 @@ class Quantity:
         return self.grid == self.key
 
     def calc_function(self):
-        module, _, name = self.calc.rpartition(".")
-        return getattr(importlib.import_module(module), name)
+        return calc_function(self.calc)
 
     def calc_arguments(self):
         """Mapping of the calc function's argument names to quantity keys."""
@@ -224,16 +229,16 @@ def _instantiate(member, prefix, grid, members, aliases, summary):
     entry = dict(member, key=prefix + member["key"], formula=rewrite(member.get("formula")),
                  first=rewrite(member.get("first")),
                  summary=member.get("summary", False) and summary)
-    function = Quantity(key="", kind="", unit="-", zh="", en="", formula=None,
-                        calc=member["calc"]).calc_function()
+    function = calc_function(member["calc"])
     args = {name: member.get("args", {}).get(name, name)
             for name in inspect.signature(function).parameters}
     entry["args"] = {name: rename(source) for name, source in args.items()}
     return entry
 
 
-def _summary_quantities(grid, series):
-    """Max/min of each summary series and the crank angle where it occurs."""
+def _summary_quantities(grids, series):
+    """Max/min of each summary series and the grid angle where it occurs (in the unit of
+    that series' own grid)."""
     out = []
     for q in series:
         for stat, word_zh, word_en in (("max", "最大值", "maximum"), ("min", "最小值", "minimum")):
@@ -243,7 +248,7 @@ def _summary_quantities(grid, series):
                 formula=f"{stat.upper()}({{{q.key}}})", calc=f"calc.cycle.{word_en}",
                 args={"values": q.key}))
             out.append(Quantity(
-                key=f"{q.key}_{stat}_angle", kind="result", unit=grid.unit,
+                key=f"{q.key}_{stat}_angle", kind="result", unit=grids[q.grid].unit,
                 zh=f"{q.zh} {word_zh}处曲轴转角", en=f"crank angle of {q.en} {word_en}",
                 formula=f"INDEX({{{q.grid}}},MATCH({{{q.key}_{stat}}},{{{q.key}}},0))",
                 calc=f"calc.cycle.angle_of_{word_en}",
@@ -311,7 +316,7 @@ def load(name):
         groups=data.get("groups", {}), parameters=parameters, input_tables=tables, rules=rules,
         scalars=[_quantity(q, "scalar") for q in data.get("scalar", [])], sheets=sheets,
         results=[_quantity(q, "result") for q in data.get("result", [])],
-        summary=_summary_quantities(main, series), highlights=tuple(head.get("highlights", ())))
+        summary=_summary_quantities({g.key: g for g in grids}, series), highlights=tuple(head.get("highlights", ())))
     check(spec)
     return spec
 

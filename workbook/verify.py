@@ -44,6 +44,26 @@ def _as_array(value):
     return np.array([math.nan if v is None or isinstance(v, str) else float(v) for v in items])
 
 
+def is_extreme_angle(quantity):
+    return quantity.key.endswith(("_max_angle", "_min_angle"))
+
+
+def extreme_angle_error(quantity, expected, angle):
+    """(|series(angle) − extreme|, series peak) for a q_<x>_max_angle/_min_angle value.
+
+    The same extreme can occur twice (at 0° and 720°), so the angle itself is
+    ambiguous; what must hold is that the series reaches its extreme there.
+    """
+    values = np.asarray(expected[quantity.args["values"]], dtype=float)
+    grid = np.asarray(expected[quantity.args["crank_angle"]], dtype=float)
+    extreme = np.nanmax(values) if quantity.key.endswith("_max_angle") else np.nanmin(values)
+    scale = float(np.nanmax(np.abs(values))) or 1.0
+    if not np.isfinite(angle):
+        return math.inf, scale
+    error = abs(values[np.argmin(np.abs(grid - angle))] - extreme)
+    return (error if np.isfinite(error) else math.inf), scale
+
+
 def spec_of(names):
     """The workbook specification whose parameters the file's p_ names are."""
     keys = {n[2:] for n in names if n.startswith("p_")}
@@ -87,17 +107,9 @@ def compare(spec, expected, recalculated, cached):
         want = np.atleast_1d(np.asarray(expected[q.key], float))
         got = _as_array(recalculated[name])
         stored = _as_array(cached.get(name))
-        if q.key.endswith(("_max_angle", "_min_angle")):
-            # Ties (the same extreme at 0° and 720°) make the angle ambiguous: compare
-            # the series value at LibreOffice's angle with numpy's extreme instead.
-            series = q.args["values"]
-            grid = np.asarray(expected[q.args["crank_angle"]])
-            values = np.asarray(expected[series])
-            extreme = np.nanmax(values) if "_max" in q.key else np.nanmin(values)
-            at = values[np.argmin(np.abs(grid - got[0]))] if np.isfinite(got[0]) else math.nan
-            scale = float(np.nanmax(np.abs(values))) or 1.0
-            worst = abs(at - extreme)
-            out.append(Comparison(name, q.unit, worst if np.isfinite(worst) else math.inf, scale,
+        if is_extreme_angle(q):
+            worst, scale = extreme_angle_error(q, expected, got[0])
+            out.append(Comparison(name, q.unit, worst, scale,
                                   0.0 if stored[0] == got[0] else abs(stored[0] - got[0])))
             continue
         if got.shape != want.shape:

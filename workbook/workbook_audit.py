@@ -16,7 +16,7 @@ from workbook import recalc
 from workbook.errors import WorkbookReadError
 from workbook.evaluate import evaluate
 from workbook.reader import named_values, open_workbook
-from workbook.verify import inputs_of, spec_of
+from workbook.verify import extreme_angle_error, inputs_of, is_extreme_angle, spec_of
 
 TOLERANCE = 1e-6        # relative to the series' peak: saved values carry ≥ 15 digits
 
@@ -74,9 +74,6 @@ def audit_workbook(path, workdir=None):
         want = np.atleast_1d(np.asarray(expected[q.key], dtype=float))
         finite = want[np.isfinite(want)]
         scale = float(np.max(np.abs(finite))) if finite.size else 1.0
-        if q.key.endswith(("_max_angle", "_min_angle")):
-            series = np.asarray(expected[q.args["values"]])
-            scale = None                       # ties: judge the value at the angle instead
         formulas = dict(_cells(formula_book, formula_book.defined_names[name]))
         for i, (address, cell) in enumerate(_cells(values_book, values_book.defined_names[name])):
             target = want[i] if i < want.size else math.nan
@@ -99,11 +96,9 @@ def audit_workbook(path, workdir=None):
             if not isinstance(stored, (int, float)):
                 findings.append(CellFinding(address, name, stored, target, "not a number"))
                 continue
-            if scale is None:
-                grid_values = np.asarray(expected[q.args["crank_angle"]])
-                at = series[np.argmin(np.abs(grid_values - stored))]
-                extreme = np.nanmax(series) if "_max" in q.key else np.nanmin(series)
-                ok = abs(at - extreme) <= TOLERANCE * (np.nanmax(np.abs(series)) or 1.0)
+            if is_extreme_angle(q):
+                error, peak = extreme_angle_error(q, expected, stored)
+                ok = error <= TOLERANCE * peak
             else:
                 ok = np.isfinite(target) and abs(stored - target) <= TOLERANCE * (scale or 1.0)
             if not ok:
