@@ -24,8 +24,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 import xlsxwriter  # noqa: E402
 from openpyxl.utils import column_index_from_string  # noqa: E402
 
-from workbook import evaluate, params  # noqa: E402
-from workbook.writer.build import write_workbook  # noqa: E402
+from crankbook import evaluate, params  # noqa: E402
+from crankbook.writer.build import write_workbook  # noqa: E402
 
 
 def build_default(path):
@@ -97,7 +97,7 @@ def main():
         print(f"{'xlsxwriter baseline (no physics)':<34}{x:>10.2f}{1:>8.2f}")
         print(f"{'crankbook build (default)':<34}{b:>10.2f}{b / x:>8.2f}   target ≤ 1.30")
         if not args.no_verify:
-            from workbook.verify import verify
+            from crankbook.verify import verify
             start = time.perf_counter()
             _, comparisons, _ = verify(built)
             elapsed = time.perf_counter() - start

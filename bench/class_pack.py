@@ -20,7 +20,7 @@ sys.path.insert(0, str(ROOT))
 
 def run(*args):
     started = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "workbook", *map(str, args)], check=True, cwd=ROOT,
+    subprocess.run([sys.executable, "-m", "crankbook", *map(str, args)], check=True, cwd=ROOT,
                    stderr=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
     return time.perf_counter() - started
 
@@ -31,8 +31,8 @@ def main():
     args = parser.parse_args()
     import openpyxl
 
-    from workbook.assignment import template
-    from workbook.reader import named_values, open_workbook
+    from crankbook.assignment import template
+    from crankbook.reader import named_values, open_workbook
 
     items = [i.key for i in template.load("course-design").items]
     with tempfile.TemporaryDirectory() as tmp:

@@ -13,7 +13,7 @@ quantities of the rod are positive counter-clockwise.
 """
 import numpy as np
 
-from calc.kinematics import crank_angle_from_axis, piston_acceleration_exact, rod_angle
+from crankbook.calc.kinematics import crank_angle_from_axis, piston_acceleration_exact, rod_angle
 
 
 # --- synthesis from stroke, offset and time ratio ---------------------------------
@@ -252,12 +252,13 @@ def driving_torque(balancing_torque):
 
 # --- flywheel (seed 001 §7) ---------------------------------------------------------
 
-def closed_cycle_mean(crank_angle, values):
-    """Trapezoidal mean over the closed cycle 0…4π; the last point joins the first [-]."""
+def closed_cycle_mean(crank_angle, values, cycle=4 * np.pi):
+    """Trapezoidal mean over the closed cycle 0…``cycle`` [rad]; the last point joins the
+    first, one cycle on [-]."""
     x = np.asarray(crank_angle, dtype=float)
     y = np.asarray(values, dtype=float)
-    area = np.sum((y[1:] + y[:-1]) / 2 * np.diff(x)) + (y[-1] + y[0]) / 2 * (4 * np.pi - x[-1])
-    return area / (4 * np.pi)
+    area = np.sum((y[1:] + y[:-1]) / 2 * np.diff(x)) + (y[-1] + y[0]) / 2 * (cycle - x[-1])
+    return area / cycle
 
 
 def energy_fluctuation(crank_angle, driving_torque, resisting_torque):

@@ -10,7 +10,7 @@ S = (a/b)·[4·sinα − sinφ0 − sin(φ0 + θ)] + (e/b)·(θ + π − 4α),
 """
 import numpy as np
 
-from calc.mechanism import (crank_radius_from_design, extreme_angle, min_transmission_angle,
+from crankbook.calc.mechanism import (crank_radius_from_design, extreme_angle, min_transmission_angle,
                             rod_length_from_design)
 
 GOLDEN = (np.sqrt(5) - 1) / 2
@@ -132,7 +132,7 @@ def feasible_objective(crank_radius, rod_length, offset, time_ratio, feasible):
 
 def peak_acceleration(crank_radius, rod_length, offset, speed, samples=72001):
     """Largest piston acceleration over a revolution [m/s²] (dense sampling)."""
-    from calc.kinematics import piston_acceleration_exact
+    from crankbook.calc.kinematics import piston_acceleration_exact
     phi = np.linspace(0, 2 * np.pi, samples)
     return float(np.max(np.abs(piston_acceleration_exact(phi, crank_radius, rod_length, offset,
                                                           speed))))
@@ -141,8 +141,13 @@ def peak_acceleration(crank_radius, rod_length, offset, speed, samples=72001):
 def peak_side_force_power_stroke(crank_radius, rod_length, offset, axial_force,
                                  samples=72001):
     """Largest piston side force P·|tanβ| over the power stroke (TDC to BDC) [N]."""
-    from calc.kinematics import rod_angle
+    from crankbook.calc.kinematics import rod_angle
     a, b, e = crank_radius, rod_length, offset
     bdc = np.pi + np.arcsin(e / (b - a)) - np.arcsin(e / (a + b))
     phi = np.linspace(0, bdc, samples)
     return float(axial_force * np.max(np.abs(np.tan(rod_angle(phi, a, b, e)))))
+
+
+def where_feasible(value, feasible):
+    """``value`` where ``feasible`` is 1, NaN elsewhere (a blank cell)."""
+    return np.where(np.asarray(feasible) == 1, value, np.nan)

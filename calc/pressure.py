@@ -18,7 +18,7 @@ Fundamentals*, §9.2 (Wiebe function) and §5.4 (polytropic processes).
 """
 import numpy as np
 
-from calc.forces import piston_area
+from crankbook.calc.forces import piston_area
 
 
 def displaced_volume(bore, stroke):
@@ -62,10 +62,11 @@ def combustion_pressure(intake_pressure, compression_ratio, compression_exponent
 
 def model_pressure(crank_angle, cylinder_volume, burned_fraction, clearance_volume,
                    displaced_volume, intake_pressure, exhaust_pressure, compression_exponent,
-                   expansion_exponent, combustion_pressure):
+                   expansion_exponent, combustion_pressure, cycle=4 * np.pi):
     """Cylinder pressure of the blended two-polytrope model [Pa] (see module docstring).
 
-    ``crank_angle`` [rad] runs over the cycle 0…4π with firing TDC at 2π.
+    ``crank_angle`` [rad] runs over the ``cycle`` 0…4π with firing TDC at 2π; the
+    four strokes are its quarters.
     """
     crank_angle = np.asarray(crank_angle, dtype=float)
     volume = np.asarray(cylinder_volume, dtype=float)
@@ -76,7 +77,7 @@ def model_pressure(crank_angle, cylinder_volume, burned_fraction, clearance_volu
     # Which stroke: 0 intake, 1–2 compression/expansion, 3 exhaust.  The small
     # allowance keeps a grid point at exactly 540° on the exhaust side despite the
     # degree-to-radian rounding, as the workbook's α < 540 test does.
-    stroke_number = np.floor(crank_angle / np.pi + 1e-9)
+    stroke_number = np.floor(crank_angle / (cycle / 4) + 1e-9)
     return np.where(stroke_number < 1, intake_pressure,
                     np.where(stroke_number < 3, closed, exhaust_pressure))
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from workbook.recalc import find_soffice
+from crankbook.recalc import find_soffice, find_ssconvert
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -22,5 +22,5 @@ def soffice():
 
 def run_cli(*args, cwd=None):
     """Run ``python -m workbook`` as a user would; returns the CompletedProcess."""
-    return subprocess.run([sys.executable, "-m", "workbook", *map(str, args)],
+    return subprocess.run([sys.executable, "-m", "crankbook", *map(str, args)],
                           capture_output=True, text=True, cwd=cwd or ROOT, timeout=600)

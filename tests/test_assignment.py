@@ -11,11 +11,11 @@ import numpy as np
 import openpyxl
 import pytest
 
-from calc import mechanism
+from crankbook.calc import mechanism
 from tests.conftest import run_cli
-from workbook import recalc
-from workbook.assignment import template as templates
-from workbook.reader import named_values, open_workbook
+from crankbook import recalc
+from crankbook.assignment import template as templates
+from crankbook.reader import named_values, open_workbook
 
 ROSTER = [f"s{n:02d}" for n in range(1, 13)]
 ASSIGNMENT = templates.load("course-design")
@@ -110,7 +110,7 @@ def graded(pack, tmp_path_factory, soffice):
 
 def consequential_answers(pack, sid):
     """s06's answers: synthesis 10 % off in r and l, the rest recomputed with their own r, l."""
-    from workbook import evaluate, params
+    from crankbook import evaluate, params
     spec, _, _ = params.load_preset("course-design")
     with open(pack / "manifest.csv", newline="", encoding="utf-8") as handle:
         row = next(r for r in csv.DictReader(handle) if r["student_id"] == sid)

@@ -9,10 +9,10 @@ import numpy as np
 import openpyxl
 import pytest
 
-from calc import mechanism
+from crankbook.calc import mechanism
 from tests.conftest import run_cli
 from tests.test_cli import _assert_clean_refusal
-from workbook import claims, recalc
+from crankbook import claims, recalc
 
 DOCUMENTS = ["thesis", "course-report", "compressor", "offset-piston", "balancing-ring"]
 

@@ -7,9 +7,9 @@ import pytest
 
 from tests.conftest import run_cli
 from tests.test_cli import _assert_clean_refusal
-from workbook import evaluate, params, recalc
-from workbook.reader import named_values, open_workbook
-from workbook.verify import compare, inputs_of, spec_of
+from crankbook import evaluate, params, recalc
+from crankbook.reader import named_values, open_workbook
+from crankbook.verify import compare, inputs_of, spec_of
 
 BUILDS = {
     "default": ["--preset", "course-design"],

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from calc import cycle, forces, kinematics as k, pressure as p
-from workbook import evaluate, params
+from crankbook.calc import cycle, forces, kinematics as k, pressure as p
+from crankbook import evaluate, params
 
 
 def test_thesis_reciprocating_mass_is_515_g():

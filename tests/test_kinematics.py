@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from calc import kinematics as k
+from crankbook.calc import kinematics as k
 
 R, L, W = 0.050, 0.150, 5000 * np.pi / 30        # the thesis engine (§3.1.2, §3.1.3)
 ALPHA = np.linspace(0, 4 * np.pi, 2001)

@@ -10,9 +10,9 @@ import openpyxl
 import pytest
 
 from tests.conftest import run_cli
-from workbook import evaluate, params, recalc
-from workbook.reader import named_values, open_workbook
-from workbook.verify import compare, inputs_of
+from crankbook import evaluate, params, recalc
+from crankbook.reader import named_values, open_workbook
+from crankbook.verify import compare, inputs_of
 
 pytestmark = pytest.mark.libreoffice
 

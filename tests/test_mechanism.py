@@ -3,7 +3,7 @@ virtual-work identity of the kinetostatic analysis."""
 import numpy as np
 import pytest
 
-from calc import kinematics as k, mechanism as m
+from crankbook.calc import kinematics as k, mechanism as m
 
 H, K = 0.152, 1.2
 

@@ -4,9 +4,9 @@ import re
 import numpy as np
 import pytest
 
-from workbook import evaluate, params, spec as specs
-from workbook.pressure_file import close_cycle
-from workbook.reader import named_values, open_workbook
+from crankbook import evaluate, params, spec as specs
+from crankbook.pressure_file import close_cycle
+from crankbook.reader import named_values, open_workbook
 from tests.conftest import run_cli
 
 CONTRACT = {  # issue 3: q_ names and their units

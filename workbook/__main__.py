@@ -1,3 +1,4 @@
-from workbook.cli import main
+"""``python -m crankbook``."""
+from crankbook.cli import main
 
 raise SystemExit(main())

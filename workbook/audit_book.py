@@ -5,10 +5,10 @@ from pathlib import Path
 import xlsxwriter
 from xlsxwriter.utility import xl_col_to_name
 
-from workbook.atomic import atomic_path
-from workbook.claims import INPUT
-from workbook.writer.build import FIXED_TIME
-from workbook.writer.styles import Styles
+from crankbook.atomic import atomic_path
+from crankbook.claims import INPUT
+from crankbook.writer.build import FIXED_TIME
+from crankbook.writer.styles import Styles
 
 COLUMNS = [("key", 16), ("section", 10), ("claim", 60), ("reported", 13), ("unit", 8),
            ("recomputed", 13), ("status", 13), ("tolerance", 10), ("kind", 12),

@@ -13,19 +13,16 @@ may call calc/ through the helpers below), a tolerance, and a note.  Kinds:
 """
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from calc import cycle, forces, kinematics, mechanism, optimization
-from workbook.toml_files import names_in, read_named
 import re
 
-from workbook.spec import TEMPLATES
+from crankbook.calc import cycle, forces, kinematics, mechanism, optimization
+from crankbook.toml_files import names_in, read_named
 
-CLAIMS = TEMPLATES / "claims"
+CLAIMS = "claims"
 INPUT = re.compile(r"\{([A-Za-z_][A-Za-z_0-9]*)\}")      # {name} of a claim's input
-SEEDS = Path(__file__).resolve().parent.parent.parent / "shared" / "seeds"
 STATUS_OF_KIND = {"value": "mismatch", "consistency": "inconsistent", "range": "mismatch"}
 DEFAULT_TOLERANCE = 0.005          # relative: documents print 3–4 significant digits
 

@@ -1,4 +1,4 @@
-"""Command line: ``python -m workbook`` or ``crankbook``.
+"""Command line: ``crankbook`` or ``python -m crankbook``, a thin layer over the API.
 
 Every user error is a CrankbookError, caught here once and printed as one line
 (exit code 2); nothing is written when a build fails.
@@ -7,8 +7,8 @@ import argparse
 import sys
 import time
 
-from workbook import __version__
-from workbook.errors import BuildOptionError, CrankbookError
+from crankbook import __version__
+from crankbook.errors import BuildOptionError, CrankbookError
 
 LANGS = ("zh", "en")
 
@@ -40,7 +40,10 @@ def _build_parser():
                        help="language of sheet names, titles and charts (default: zh); "
                             "labels are bilingual either way")
     build.add_argument("--step", type=float, default=None, metavar="DEG",
-                       help="crank-angle grid step in degrees, dividing 720 (default: 1)")
+                       help="crank-angle grid step in degrees, dividing the cycle (default: 1)")
+    build.add_argument("--cam-step", type=float, default=None, metavar="DEG",
+                       help="cam-angle grid step in degrees of the course design's cams "
+                            "(default: 1)")
     build.add_argument("-o", "--output", metavar="PATH",
                        help="output .xlsx (default: output/<preset>.xlsx)")
 
@@ -48,8 +51,11 @@ def _build_parser():
         "verify", help="recalculate a workbook in LibreOffice and compare with numpy",
         description="Open PATH in LibreOffice headless with recalculation forced, read every "
                     "q_ name back and compare it with numpy for the workbook's own parameters. "
-                    "Exit 0 only when all agree within 1e-9 of each series' peak.")
+                    "Exit 0 only when all agree within 1e-9 of each quantity's peak plus its "
+                    "rounding floor.")
     verify.add_argument("path", metavar="PATH")
+    verify.add_argument("--engine", choices=("libreoffice", "gnumeric"), default="libreoffice",
+                        help="spreadsheet engine that recalculates (default: libreoffice)")
 
     audit = commands.add_parser(
         "audit", help="audit a source document's numbers, or a workbook crankbook wrote",
@@ -89,67 +95,65 @@ def _build_parser():
     commands.add_parser("presets", help="list the presets")
     params_cmd = commands.add_parser("parameters", help="list the parameters of a preset")
     params_cmd.add_argument("--preset", default="thesis")
+    params_cmd.add_argument("--group", type=int, metavar="N")
     return parser
 
 
 def _build(args):
-    from workbook import evaluate, params
-    from workbook.pressure_file import read_trace
-    from workbook.writer.build import write_workbook
+    from crankbook.api import compute
+    from crankbook.params import parse_assignments
 
     started = time.perf_counter()
-    spec, values, preset = params.load_preset(args.preset)
-    if args.group is not None:
-        values = params.apply_group(spec, values, preset, args.group)
-    values = params.apply_overrides(spec, values, args.assignments)
-    tables = {}
-    if args.pressure:
-        angles, pressures = read_trace(args.pressure)
-        tables = {"trace_crank_angle": angles, "trace_pressure": pressures}
-        if not any(a.split("=")[0].strip() == "pressure_source" for a in args.assignments):
-            values["pressure_source"] = 1
-    trace_points = len(tables.get("trace_crank_angle", []))
-    values = params.validate(spec, values, trace_points=trace_points)
-    grid = evaluate.crank_angle_grid(spec, args.step)
+    overrides = parse_assignments(args.assignments)
+    if args.cam_step is not None:
+        overrides["cam_step"] = args.cam_step
+    results = compute(args.preset, group=args.group, pressure=args.pressure, step=args.step,
+                      **overrides)
     default = args.preset if args.group is None else f"{args.preset}-group{args.group}"
-    output = args.output or f"output/{default}.xlsx"
-    results = write_workbook(spec, values, tables, grid, args.lang, preset, output)
+    output = args.output if args.output is not None else f"output/{default}.xlsx"
+    path = results.to_excel(output, lang=args.lang)
     elapsed = time.perf_counter() - started
+    spec = results.spec
     facts = ", ".join(f"{key} {results[key]:.4g} {spec.quantity[key].unit}"
                       for key in spec.highlights)
-    print(f"wrote {output} ({elapsed:.1f} s): {facts}")
+    print(f"wrote {path} ({elapsed:.1f} s): {facts}")
     return 0
 
 
 def _verify(args):
-    from workbook.verify import TOLERANCE, verify
+    from crankbook.api import verify
 
     started = time.perf_counter()
-    spec, comparisons, status = verify(args.path)
-    print(f"verify {args.path}: LibreOffice recalculation vs numpy "
-          f"(tolerance {TOLERANCE:g} of each series' peak)")
-    print(f"  {'name':<46} {'worst |error|':>14} {'of peak':>10}  {'cached':>9}  verdict")
-    for c in sorted(comparisons, key=lambda c: -c.relative):
-        verdict = "ok" if c.ok else "DIFFERS"
-        print(f"  {c.name:<46} {c.worst:>14.3g} {c.relative:>10.2g}  {c.cached_relative:>9.2g}  "
-              f"{verdict}")
-    bad = [c for c in comparisons if not c.ok]
+    frame = verify(args.path, engine=args.engine)
+    attrs = frame.attrs
+    print(f"verify {args.path}: {attrs['engine']} recalculation vs numpy "
+          f"({attrs['template']} workbook)")
+    if attrs["inputs_break_rules"]:
+        print(f"the workbook's inputs break a rule: {attrs['status']}")
+        return 1
+    if attrs["valid"] != 1:
+        print(f"inputs are invalid in the workbook: {attrs['status']}")
+        return 1
+    print(f"  {'name':<46} {'cells':>6} {'worst |error|':>14} {'allowed':>10}  "
+          f"{'cached':>7}  verdict")
+    for row in frame.sort_values("ratio", ascending=False).itertuples():
+        verdict = "ok" if row.ok else "DIFFERS"
+        print(f"  {row.name:<46} {row.cells:>6} {row.error:>14.3g} {row.allowed:>10.2g}  "
+              f"{'ok' if row.cached_ratio <= 1 else 'differs':>7}  {verdict}")
+    bad = frame[~frame.ok]
     elapsed = time.perf_counter() - started
-    if status is not None and not str(status).startswith("✓"):
-        print(f"inputs are invalid in the workbook: {status}")
+    if len(bad):
+        print(f"{len(bad)} of {len(frame)} names differ from numpy ({elapsed:.1f} s)")
         return 1
-    if bad:
-        print(f"{len(bad)} of {len(comparisons)} names differ from numpy ({elapsed:.1f} s)")
-        return 1
-    print(f"all {len(comparisons)} names agree with numpy ({elapsed:.1f} s)")
+    print(f"all {len(frame)} names agree with numpy ({elapsed:.1f} s)")
     return 0
 
 
 def _audit(args):
     from pathlib import Path
 
-    from workbook import claims
-    from workbook.audit_book import write_audit_workbook, write_json, write_markdown
+    from crankbook import claims
+    from crankbook.audit_book import write_audit_workbook, write_json, write_markdown
 
     target = args.target
     if target.lower().endswith((".xlsx", ".xlsm", ".xls")) or Path(target).is_file():
@@ -175,11 +179,13 @@ def _audit(args):
 
 
 def _audit_workbook(path):
-    from workbook.workbook_audit import audit_workbook
+    from crankbook.workbook_audit import audit_workbook
 
-    spec, findings, recalculated = audit_workbook(path)
+    spec, findings, recalculated, rule_message = audit_workbook(path)
     if recalculated:
         print(f"{path} was saved without calculated values: recalculated in LibreOffice first")
+    if rule_message:
+        print(f"{path}: its inputs break a rule ({rule_message}); every result should be blank")
     if not findings:
         print(f"{path}: every q_ cell agrees with the recomputation from its p_ cells "
               f"({spec.key} workbook)")
@@ -192,7 +198,7 @@ def _audit_workbook(path):
 
 
 def _assign(args):
-    from workbook.assignment.assign import assign
+    from crankbook.assignment.assign import assign
 
     started = time.perf_counter()
     count = assign(args.preset, args.roster, args.seed, args.lang, args.output)
@@ -202,7 +208,7 @@ def _assign(args):
 
 
 def _grade(args):
-    from workbook.assignment.grade import grade
+    from crankbook.assignment.grade import grade
 
     started = time.perf_counter()
     summary = grade(args.directory, args.submissions, args.output)
@@ -214,18 +220,30 @@ def _grade(args):
 
 
 def _presets(args):
-    from workbook import params
-    for name in params.preset_names():
-        _, _, preset = params.load_preset(name)
-        print(f"{name:<20} {preset['en']} / {preset['zh']}")
+    from crankbook import params
+    names = params.preset_names()
+    if not names:
+        raise CrankbookError("no presets found: the installation is missing its templates")
+    for name in names:
+        preset = params.read_preset(name)["preset"]
+        print(f"{name:<22} {preset['en']} / {preset['zh']}")
     return 0
 
 
 def _parameters(args):
-    from workbook import params
-    spec, values, _ = params.load_preset(args.preset)
+    from crankbook import params
+    spec, values, preset = params.load_preset(args.preset)
+    if args.group is not None:
+        values = params.apply_group(spec, values, preset, args.group)
     for p in spec.parameters:
-        print(f"{p.key:<24} {values[p.key]:>10g} {p.unit:<4} {p.en}  [{p.bounds_text()}]")
+        value = values[p.key]
+        if p.kind == "choice":
+            shown = p.choices[int(value) - 1]
+        elif p.axis:
+            shown = ",".join(f"{v:g}" for v in value)
+        else:
+            shown = f"{value:g}"
+        print(f"{p.key:<34} {shown:>14} {p.unit:<5} {p.en}  [{p.bounds_text()}]")
     return 0
 
 

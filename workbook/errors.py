@@ -50,3 +50,22 @@ class RosterError(CrankbookError):
 
 class AssignmentDirError(CrankbookError):
     """A directory that `assign` did not write (no manifest), or one it cannot use."""
+
+
+class SpecError(CrankbookError):
+    """A template (spec) file that says something the language cannot mean.
+
+    ``file`` and ``key`` name the file under templates/ and the entry at fault.
+    """
+
+    def __init__(self, file, key, message):
+        self.file, self.key = file, key
+        super().__init__(f"templates/{file}: {key}: {message}")
+
+
+class LayoutError(CrankbookError):
+    """A per-item table (cylinders, stages, gears, …) whose rows do not fit together."""
+
+
+class BuildCancelled(CrankbookError):
+    """A run that cannot go on (e.g. another run is writing into the same place)."""

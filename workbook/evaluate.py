@@ -2,95 +2,209 @@
 
 Values go in and come out in sheet units; calc functions see SI units.  This is
 the independent half of each quantity: the workbook's formulas are the other.
+
+Shapes: a scalar is a float, a series on a grid of N points an (N,) array, a
+per-item quantity of an axis with n items an (n,) array, a per-item series (N, n).
+A calc function of a per-item series receives 1-D series as (N, 1) columns, so
+that numpy broadcasting pairs every grid point with every item.
 """
 import math
 
 import numpy as np
 
-from workbook import units
-from workbook.errors import BuildOptionError
+from crankbook import units
+from crankbook.errors import BuildOptionError, LayoutError
+from crankbook.spec import calc_function
+
+MIN_STEP = 0.01          # deg: finer grids describe nothing a 0.01° grid does not
+MAX_ROWS = 100_000       # rows of one grid: beyond that a workbook is no longer usable
 
 
-def numeric_grid(grid):
+def numeric_grid(grid, step=None):
     """start, start+step, …, stop of a numeric grid."""
-    count = round((grid.stop - grid.start) / grid.step)
-    return grid.start + grid.step * np.arange(count + 1)
+    step = grid.step if step is None else step
+    count = round((grid.stop - grid.start) / step)
+    return grid.start + step * np.arange(count + 1)
+
+
+def checked_step(grid, step, option="--step"):
+    """``step`` if it divides the grid's span into at most MAX_ROWS rows, else
+    BuildOptionError naming the option and the rule."""
+    span = grid.stop - grid.start
+    if step is None:
+        return grid.step
+    if isinstance(step, bool) or not isinstance(step, (int, float)) or not math.isfinite(step):
+        raise BuildOptionError(f"{option} {step!r}: the grid step must be a number")
+    lowest = max(MIN_STEP, span / MAX_ROWS)
+    if not (lowest <= step <= span / 4):
+        raise BuildOptionError(f"{option} {step:g}: the grid step must be ≥ {lowest:g} and "
+                               f"≤ {span / 4:g} {'°' if grid.unit == 'deg' else grid.unit}")
+    count = round(span / step)
+    if abs(count * step - span) > 1e-9 * span:
+        raise BuildOptionError(f"{option} {step:g}: the grid step must divide {span:g} evenly")
+    return float(step)
 
 
 def crank_angle_grid(spec, step=None):
-    """The shared crank-angle grid start, start+step, …, stop [deg]."""
-    step = spec.grid_step if step is None else step
-    span = spec.grid_stop - spec.grid_start
-    if not (isinstance(step, (int, float)) and math.isfinite(step) and 0 < step <= span / 4):
-        raise BuildOptionError(f"--step {step!r}: the grid step must be a number > 0 and "
-                               f"≤ {span / 4:g}°")
-    count = round(span / step)
-    if abs(count * step - span) > 1e-9 * span:
-        raise BuildOptionError(f"--step {step:g}: the grid step must divide {span:g}° evenly")
-    return spec.grid_start + step * np.arange(count + 1)
+    """The main grid start, start+step, …, stop (e.g. 0…720° of crank angle)."""
+    return numeric_grid(spec.grid, checked_step(spec.grid, step))
 
 
-def evaluate(spec, values, tables, grid, overrides=None):
-    """Every quantity of ``spec`` in sheet units.
+def build_grids(spec, steps=None):
+    """Grid key -> values of every numeric grid, with build-option steps applied.
+
+    ``steps``: build option name (``step``, ``cam_step``, …) -> step.
+    """
+    steps = steps or {}
+    out = {}
+    for option, grid in spec.grid_options().items():
+        dashed = "--" + option.replace("_", "-")
+        out[grid.key] = numeric_grid(grid, checked_step(grid, steps.get(option), dashed))
+    for grid in spec.grids:
+        if grid.is_numeric_grid and grid.key not in out:
+            out[grid.key] = numeric_grid(grid)
+    return out
+
+
+def axis_sizes(spec, values):
+    """Axis key -> number of items, from the per-item parameters."""
+    sizes = {}
+    for axis in spec.axes:
+        if axis.size_calc:
+            function = calc_function(axis.size_calc)
+            args = {name: np.asarray(values[source], dtype=float)
+                    for name, source in axis.size_args.items()}
+            sizes[axis.key] = int(function(**args))
+            continue
+        lengths = {p.key: len(values[p.key]) for p in spec.item_parameters(axis.key)}
+        if len(set(lengths.values())) != 1:
+            listing = ", ".join(f"{k} has {n}" for k, n in lengths.items())
+            raise LayoutError(f"the {axis.en.lower()} table's columns are set together: "
+                              f"{listing} values")
+        sizes[axis.key] = next(iter(lengths.values()))
+    return sizes
+
+
+def _as_grid_dict(spec, grids):
+    if grids is None:
+        return build_grids(spec)
+    if isinstance(grids, dict):
+        return {**build_grids(spec), **grids}
+    return {**build_grids(spec), spec.grid.key: np.asarray(grids, dtype=float)}
+
+
+class Evaluator:
+    """Lazily computes quantities in SI units, each once, from the inputs."""
+
+    def __init__(self, spec, values, tables=None, grids=None, overrides=None):
+        self.spec = spec
+        self.values = values
+        self.tables = tables or {}
+        self.overrides = overrides or {}
+        self.grids = _as_grid_dict(spec, grids)
+        self.sizes = axis_sizes(spec, values)
+        self.memo, self.shapes = {}, {}
+
+    def is_known(self, key):
+        spec = self.spec
+        return (key in spec.quantity or key in spec.parameter or key in spec.table_column
+                or key in spec.constant or key in self.grids)
+
+    def shape_of(self, q):
+        if q.is_grid:
+            return self.shapes[q.key]
+        if q.is_series:
+            self.si(q.grid)
+            rows = self.shapes[q.grid]
+            return rows + (self.sizes[q.items],) if q.items else rows
+        return (self.sizes[q.items],) if q.items else ()
+
+    def argument(self, source, consumer):
+        """An argument as ``consumer``'s calc function receives it."""
+        value = self.si(source)
+        q = self.spec.quantity.get(source)
+        if consumer.items and consumer.is_series and isinstance(value, np.ndarray) and \
+                q is not None and q.is_series and not q.items and value.ndim == 1:
+            return value[:, None]
+        return value
+
+    def arguments(self, q):
+        return {name: self.argument(source, q) for name, source in q.calc_arguments().items()
+                if self.is_known(source)}
+
+    def call(self, q, kwargs):
+        """``q``'s calc function on ``kwargs``, shaped as ``q`` is."""
+        with np.errstate(all="ignore"):
+            result = q.calc_function()(**kwargs)
+        if q.is_grid:
+            return np.asarray(result, dtype=float)
+        if q.is_series or q.items:
+            result = np.broadcast_to(np.asarray(result, dtype=float), self.shape_of(q)).copy()
+        else:
+            result = float(np.asarray(result, dtype=float))
+        if q.kind == "rule":
+            result = np.where(np.isfinite(result) & (np.asarray(result) == 0), 0.0, 1.0)
+            result = float(result) if result.ndim == 0 else result
+        return result
+
+    def si(self, key):
+        if key in self.memo:
+            return self.memo[key]
+        spec = self.spec
+        if key in self.overrides:
+            result = np.asarray(self.overrides[key], dtype=float) \
+                * units.si_factor(spec.unit_of(key))
+            result = float(result) if result.ndim == 0 else result
+        elif key in self.grids:
+            result = np.asarray(self.grids[key], dtype=float) * units.si_factor(spec.unit_of(key))
+            self.shapes[key] = result.shape
+        elif key in spec.constant:
+            c = spec.constant[key]
+            result = c.value * units.si_factor(c.unit)
+        elif key in spec.parameter:
+            p = spec.parameter[key]
+            raw = self.values[key]
+            result = (np.asarray(raw, dtype=float) if p.axis else float(raw)) \
+                * units.si_factor(p.unit)
+        elif key in spec.table_column:
+            result = np.asarray(self.tables.get(key, []), dtype=float) \
+                * units.si_factor(spec.table_column[key].unit)
+        else:
+            q = spec.quantity[key]
+            result = self.call(q, self.arguments(q))
+            if q.is_grid:
+                self.shapes[key] = result.shape
+        self.memo[key] = result
+        return result
+
+    def sheet_value(self, key):
+        return self.si(key) / units.si_factor(self.spec.unit_of(key))
+
+
+def evaluate(spec, values, tables=None, grids=None, overrides=None, keys=None):
+    """Every quantity of ``spec`` in sheet units (or only ``keys``, and what they need).
 
     Parameters
     ----------
     values : dict
-        Parameter key -> value in its sheet unit.
-    tables : dict
-        Input-table column key -> 1-D array in its sheet unit (may be empty).
-    grid : numpy.ndarray
-        The crank-angle grid [deg].
+        Parameter key -> value in its sheet unit (a list for per-item parameters;
+        a choice parameter's 1-based index).
+    tables : dict, optional
+        Input-table column key -> 1-D array in its sheet unit (a measured trace).
+    grids : dict or numpy.ndarray, optional
+        Grid key -> values of the numeric grids, or the main grid alone [deg].
     overrides : dict, optional
         Computed quantity key -> value in its sheet unit to use instead of its calc
         function (e.g. a student's own crank radius, for consequential credit).
+    keys : iterable, optional
+        Compute only these (used by the input rules).
     """
-    overrides = overrides or {}
-    si = {}
-    shapes = {spec.grid.key: np.shape(grid)}
-
-    def si_value(key):
-        if key in si:
-            return si[key]
-        q = spec.quantity.get(key)
-        if key in overrides:
-            result = np.asarray(overrides[key], dtype=float) * units.si_factor(spec.unit_of(key))
-            if result.ndim == 0:
-                result = float(result)
-        elif key == spec.grid.key:
-            result = np.asarray(grid, dtype=float) * units.si_factor(spec.grid.unit)
-        elif q is not None and q.is_grid and q.formula is None:
-            points = numeric_grid(q)
-            shapes[key] = points.shape
-            result = points * units.si_factor(q.unit)
-        elif key in spec.parameter:
-            result = float(values[key]) * units.si_factor(spec.parameter[key].unit)
-        elif key in spec.table_column:
-            result = np.asarray(tables.get(key, []), dtype=float) \
-                * units.si_factor(spec.table_column[key].unit)
-        else:
-            q = spec.quantity[key]
-            kwargs = {name: si_value(source) for name, source in q.calc_arguments().items()}
-            result = q.calc_function()(**kwargs)
-            if q.is_grid:
-                result = np.asarray(result, dtype=float)
-                shapes[key] = result.shape
-            elif q.kind == "series":
-                si_value(q.grid)
-                result = np.broadcast_to(np.asarray(result, dtype=float), shapes[q.grid])
-            else:
-                result = float(result)
-        si[key] = result
-        return result
-
-    out = {}
-    for q in spec.quantities():
-        value = si_value(q.key)
-        out[q.key] = value / units.si_factor(q.unit)
+    evaluator = Evaluator(spec, values, tables, grids, overrides)
+    wanted = spec.quantities() if keys is None else [spec.quantity[k] for k in keys]
+    out = {q.key: evaluator.sheet_value(q.key) for q in wanted}
     # Numeric grids as given, not through the SI round trip (462° must stay 462,
     # not 461.99999999999994, or an exact MATCH against a trace shifts a row).
-    out[spec.grid.key] = np.asarray(grid, dtype=float)
-    for g in spec.grids:
-        if g.formula is None and g is not spec.grid:
-            out[g.key] = numeric_grid(g)
+    for key, value in evaluator.grids.items():
+        if key in out or keys is None:
+            out[key] = np.asarray(value, dtype=float)
     return out

@@ -1,21 +1,34 @@
-"""Turn formula templates into Excel formulas for a given layout.
+"""Compile formula templates into Excel formulas for a given layout.
 
-A template names quantities as {key}; :class:`Locator` knows where each one lives.
-Series formulas are compiled once per column into text with markers for the row,
-so each cell costs a few string replaces.
+:class:`Locator` knows where every key lives in the workbook and turns a parsed
+template (crankbook.placeholders) into Excel text for one context: a sheet, a grid
+row (series formulas carry markers for the row, filled per cell by :func:`fill`),
+an item (per-item quantities) and the indices of enclosing {sum:…} placeholders.
+What each placeholder becomes is documented in templates/README.md.
 """
-from xlsxwriter.utility import xl_col_to_name
+from dataclasses import dataclass, field, replace
 
-from workbook.spec import REFERENCE, ROW_INDEX
+from xlsxwriter.utility import xl_col_to_name, xl_rowcol_to_cell
+
+from crankbook import units
+from crankbook.placeholders import Ref, Special, Sum
+from crankbook.spec import GUARD
 
 ROW = "\x00"            # the 1-based row number of the cell
 PREV = "\x01"           # the 1-based row number of the row above
 INDEX = "\x02"          # the 0-based index of the row within its grid
-GUARD = "q_inputs_valid"
 
 
 def quote_sheet(name):
     return "'" + name.replace("'", "''") + "'"
+
+
+def number(value):
+    """A number as formula text: 720, 0.5, 1E-09."""
+    value = float(value)
+    if value.is_integer() and abs(value) < 1e15:
+        return str(int(value))
+    return repr(value).upper().replace("E-0", "E-").replace("E+0", "E+")
 
 
 def fill(template, row, index):
@@ -28,77 +41,200 @@ def fill(template, row, index):
     return text
 
 
+@dataclass(frozen=True)
+class Place:
+    """Where a key lives.  ``kind``: cell, column (a series on ``grid``), block (a
+    per-item series: ``count`` columns from ``col``), items (``count`` cells down from
+    ``row``: per-item inputs and results) or range (an input table column)."""
+    kind: str
+    sheet: str
+    row: int
+    col: int
+    grid: str | None = None
+    count: int = 1
+
+
+@dataclass(frozen=True)
+class Context:
+    sheet: str
+    grid: str | None = None       # set for series formulas
+    item: int | None = None       # the formula's own item (1-based)
+    axis: str | None = None
+    sums: tuple = ()              # ((axis, index), …) of enclosing {sum:…}
+
+
+class CompileError(ValueError):
+    """A reference that the layout cannot express (a spec mistake the checker let by)."""
+
+
+@dataclass
 class Locator:
-    """Where every key of a specification is in the workbook.
+    spec: object
+    places: dict = field(default_factory=dict)        # key -> Place
+    grid_rows: dict = field(default_factory=dict)     # grid -> (first row, last row)
+    grid_numbers: dict = field(default_factory=dict)  # grid -> (start, step, period points)
+    axis_sizes: dict = field(default_factory=dict)
 
-    Parameters and input tables are names p_<key>, scalars and results names
-    q_<key>; a series is a column (sheet, column index, grid) whose grid gives its
-    rows (first, last), 0-based.
-    """
-
-    def __init__(self, spec, series_columns, grid_rows):
-        self.spec = spec
-        self.series_columns = series_columns
-        self.grid_rows = grid_rows
-
-    def is_series(self, key):
-        return key in self.series_columns
-
-    def rows(self, key):
-        return self.grid_rows[self.series_columns[key][2]]
-
+    # ------------------------------------------------------------ addresses
     def name(self, key):
-        if key in self.spec.parameter or key in self.spec.table_column:
-            return f"p_{key}"
-        return f"q_{key}"
+        spec = self.spec
+        return f"p_{key}" if key in spec.parameter or key in spec.table_column else f"q_{key}"
 
-    def cell(self, key, row_text, same_sheet=None, absolute_row=False):
-        sheet, col, _ = self.series_columns[key]
-        prefix = "" if sheet == same_sheet else quote_sheet(sheet) + "!"
-        return f"{prefix}${xl_col_to_name(col)}{'$' if absolute_row else ''}{row_text}"
+    def _cell(self, sheet, row, col, context, row_text=None, absolute_row=True):
+        prefix = "" if sheet == context.sheet else quote_sheet(sheet) + "!"
+        if row_text is not None:
+            return f"{prefix}${xl_col_to_name(col)}{row_text}"
+        return prefix + xl_rowcol_to_cell(row, col, row_abs=absolute_row, col_abs=True)
 
-    def column_range(self, key, first=None, last=None):
-        sheet, col, _ = self.series_columns[key]
-        top, bottom = self.rows(key)
+    def column_range(self, key, first=None, last=None, col=None):
+        place = self.places[key]
+        top, bottom = self.grid_rows[place.grid]
+        col = place.col if col is None else col
         letter = xl_col_to_name(col)
         first = top if first is None else first
         last = bottom if last is None else last
-        return f"{quote_sheet(sheet)}!${letter}${first + 1}:${letter}${last + 1}"
+        return f"{quote_sheet(place.sheet)}!${letter}${first + 1}:${letter}${last + 1}"
 
-    def _part(self, key, part, sheet):
-        top, bottom = self.rows(key)
-        if part == "head":
-            return self.column_range(key, last=bottom - 1)
-        if part == "tail":
-            return self.column_range(key, first=top + 1)
-        if part == "last":
-            return self.cell(key, bottom + 1, same_sheet=sheet, absolute_row=True)
-        return None
+    def whole_range(self, key):
+        """Absolute reference of everything a key names (its defined name's target)."""
+        place = self.places[key]
+        if place.kind == "cell":
+            return f"{quote_sheet(place.sheet)}!{xl_rowcol_to_cell(place.row, place.col, True, True)}"
+        if place.kind in ("items", "range"):
+            first = xl_rowcol_to_cell(place.row, place.col, True, True)
+            last = xl_rowcol_to_cell(place.row + place.count - 1, place.col, True, True)
+            return f"{quote_sheet(place.sheet)}!{first}:{last}"
+        top, bottom = self.grid_rows[place.grid]
+        first = xl_rowcol_to_cell(top, place.col, True, True)
+        last = xl_rowcol_to_cell(bottom, place.col + place.count - 1, True, True)
+        return f"{quote_sheet(place.sheet)}!{first}:{last}"
 
     # ------------------------------------------------------------ compilers
-    def series_formula(self, template, sheet, grid, guard=True):
+    def series_formula(self, template_nodes, sheet, grid, item=None, axis=None, guard=True):
         """Formula text of a series cell on ``grid`` with markers for its row."""
-        def replace(match):
-            key, part = match.group(1), match.group(2)
-            if key == ROW_INDEX:
-                return INDEX
-            if self.is_series(key):
-                if part == "prev":
-                    return self.cell(key, PREV, same_sheet=sheet)
-                if part:
-                    return self._part(key, part, sheet)
-                if self.series_columns[key][2] == grid:
-                    return self.cell(key, ROW, same_sheet=sheet)
-            return self.name(key)
-        body = REFERENCE.sub(replace, template)
-        return "=" + (f'IF({GUARD}=1,{body},"")' if guard else body)
+        context = Context(sheet=sheet, grid=grid, item=item, axis=axis)
+        return "=" + self.guarded(self.compile(template_nodes, context), guard)
 
-    def scalar_formula(self, template, guard=True):
+    def scalar_formula(self, template_nodes, sheet, item=None, axis=None, guard=True):
         """Formula text of a single cell; a series stands for its whole column."""
-        def replace(match):
-            key, part = match.group(1), match.group(2)
-            if self.is_series(key) and part:
-                return self._part(key, part, None)
+        context = Context(sheet=sheet, item=item, axis=axis)
+        return "=" + self.guarded(self.compile(template_nodes, context), guard)
+
+    @staticmethod
+    def guarded(body, guard):
+        if guard is True:
+            return f'IF(q_{GUARD}=1,{body},"")'
+        if guard == "iferror":
+            return f'IFERROR({body},"")'
+        return body
+
+    def compile(self, nodes, context):
+        out = []
+        for node in nodes:
+            if isinstance(node, str):
+                out.append(node)
+            elif isinstance(node, Special):
+                out.append(self._special(node, context))
+            elif isinstance(node, Sum):
+                terms = [self.compile(node.body, replace(context, sums=context.sums + (
+                    (node.axis, k),))) for k in range(1, self.axis_sizes[node.axis] + 1)]
+                out.append("(" + "+".join(f"({t})" for t in terms) + ")")
+            else:
+                text = self._reference(node, context)
+                if node.unit:
+                    text = units.excel_conversion(text, self.spec.unit_of(node.key), node.unit)
+                out.append(text)
+        return "".join(out)
+
+    def _special(self, node, context):
+        if node.name == "row_index":
+            return INDEX
+        if node.name == "item":
+            return str(context.item)
+        return str(context.sums[-1][1])
+
+    def _reference(self, node, context):
+        spec, key = self.spec, node.key
+        if key in spec.constant:
+            return number(spec.constant[key].value)
+        parameter = spec.parameter.get(key)
+        if parameter is not None and parameter.axis is None:
+            if parameter.kind == "choice":
+                words = ",".join('"' + c + '"' for c in parameter.choices)
+                return f"MATCH(p_{key},{{{words}}},0)"
+            return f"p_{key}"
+        if key in spec.table_column:
+            return f"p_{key}"
+        place = self.places[key]
+        axis = parameter.axis if parameter is not None else spec.quantity[key].items
+        if place.kind == "items":
+            return self._item_cells(node, place, axis, context)
+        if place.kind == "cell":
             return self.name(key)
-        body = REFERENCE.sub(replace, template)
-        return "=" + (f'IF({GUARD}=1,{body},"")' if guard else body)
+        if place.kind == "block":
+            return self._block(node, place, axis, context)
+        return self._column(node, place, context, col=place.col)
+
+    def _chosen_item(self, node, axis, context):
+        """The item a reference means: item(EXPR) literal, an enclosing sum, or the
+        formula's own item; None when it means all items."""
+        if node.part == "item":
+            text = self.compile(node.argument, context).strip()
+            return int(text) if text.isdigit() else text
+        for sum_axis, index in reversed(context.sums):
+            if sum_axis == axis:
+                return index
+        if context.axis == axis and node.part not in ("all", "items"):
+            return context.item
+        return None
+
+    def _item_cells(self, node, place, axis, context):
+        item = self._chosen_item(node, axis, context)
+        if item is None:
+            return self.name(node.key)
+        if isinstance(item, str):
+            return f"INDEX({self.name(node.key)},{item})"
+        return self._cell(place.sheet, place.row + item - 1, place.col, context)
+
+    def _block(self, node, place, axis, context):
+        if node.part == "items":
+            if context.grid == place.grid:
+                first = self._cell(place.sheet, 0, place.col, context, row_text=ROW)
+                last = xl_col_to_name(place.col + place.count - 1)
+                return f"{first}:${last}{ROW}"
+            return self.name(node.key)
+        item = self._chosen_item(node, axis, context)
+        if item is None:
+            if node.part == "all" or context.grid is None:
+                return self.name(node.key)
+            raise CompileError(f"{{{node.key}}}: which {axis}? use :items or :item(…)")
+        if isinstance(item, str):
+            if context.grid != place.grid:
+                raise CompileError(f"{{{node.key}:item({item})}} outside its grid")
+            first = self._cell(place.sheet, 0, place.col, context, row_text=ROW)
+            last = xl_col_to_name(place.col + place.count - 1)
+            return f"INDEX({first}:${last}{ROW},{item})"
+        return self._column(node, place, context, col=place.col + item - 1)
+
+    def _column(self, node, place, context, col):
+        part, key = node.part, node.key
+        top, bottom = self.grid_rows[place.grid]
+        if part == "prev":
+            return self._cell(place.sheet, 0, col, context, row_text=PREV)
+        if part == "head":
+            return self.column_range(key, last=bottom - 1, col=col)
+        if part == "tail":
+            return self.column_range(key, first=top + 1, col=col)
+        if part == "last":
+            return self._cell(place.sheet, bottom, col, context)
+        if part == "at":
+            start, step, points = self.grid_numbers[place.grid]
+            angle = self.compile(node.argument, context)
+            offset = f"({angle})" if not start else f"({angle}-{number(start)})"
+            head = self.column_range(key, last=top + points - 1, col=col)
+            return f"INDEX({head},MOD(INT({offset}/{number(step)}+0.5),{points})+1)"
+        if part in (None, "item") and context.grid == place.grid:
+            return self._cell(place.sheet, 0, col, context, row_text=ROW)
+        if col == place.col and place.count == 1:
+            return self.name(key)
+        return self.column_range(key, col=col)

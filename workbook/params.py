@@ -1,116 +1,199 @@
-"""Parameter values: presets, ``--set`` overrides and the input rules.
+"""Parameter values: presets, class groups, overrides and the input rules.
 
-The same bounds and rules also become the workbook's data validation and its
-input checks, so the command line and the spreadsheet refuse the same inputs.
+The same bounds and rules are the workbook's data validation and input checks, so
+the command line, the API and the spreadsheet refuse the same inputs.  A rule is
+a quantity (formula and calc function); here its calc function decides.
 """
 import math
-import tomllib
+import re
 
-from workbook import spec as specs
-from workbook.toml_files import names_in, read_named
-from workbook.errors import (GeometryError, ParameterValueError, UnknownGroupError,
-                             UnknownParameterError, UnknownPresetError)
+import numpy as np
 
-PRESETS = specs.TEMPLATES / "presets"
+from crankbook import resources
+from crankbook.errors import (GeometryError, LayoutError, ParameterValueError, SpecError,
+                              UnknownGroupError, UnknownParameterError, UnknownPresetError)
+from crankbook.evaluate import axis_sizes, evaluate
+from crankbook.spec_loader import load as load_spec
+
+PRESETS = "presets"
+GROUPS = "groups"
+# Plain ASCII decimal numbers only: no full-width or Arabic-Indic digits, no 1_000,
+# no inf or nan (Python's float() takes all of those).
+NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?\Z")
 
 
 def preset_names():
-    return names_in(PRESETS)
+    return resources.names(PRESETS)
+
+
+def read_preset(name):
+    if not resources.is_safe_name(name) or not resources.exists(PRESETS, f"{name}.toml"):
+        raise UnknownPresetError(f"unknown preset {name!r}; choose one of: "
+                                 f"{', '.join(preset_names())}")
+    return resources.read_toml(PRESETS, f"{name}.toml")
 
 
 def load_preset(name):
-    """(spec, values) of a preset: the template's defaults, then the preset's values."""
-    data = read_named(PRESETS, name, "preset")
-    spec = specs.load(data["preset"]["template"])
-    values = {p.key: p.default for p in spec.parameters}
+    """(spec, values, preset table) of a preset: the template's defaults, then the
+    preset's values (per-item parameters as lists, choices as 1-based indices)."""
+    data = read_preset(name)
+    meta = dict(data["preset"])
+    spec = load_spec(meta["template"])
+    values = {p.key: (list(p.default) if p.axis else p.default) for p in spec.parameters}
     for key, value in data.get("values", {}).items():
         if key not in spec.parameter:
-            raise UnknownParameterError(f"preset {name!r} sets unknown parameter {key!r}")
+            raise SpecError(f"{PRESETS}/{name}.toml", key, "sets an unknown parameter")
         values[key] = value
-    return spec, values, data["preset"]
+    values = {key: _coerce(spec.parameter[key], value, f"preset {name}") for key, value in
+              values.items()}
+    return spec, values, meta
+
+
+def group_numbers(preset):
+    table = preset.get("groups")
+    if table is None:
+        return []
+    return sorted(g["number"] for g in resources.read_toml(GROUPS, f"{table}.toml")["group"])
 
 
 def apply_group(spec, values, preset, number):
     """Values with class group ``number`` of the preset's group table applied."""
-    table_name = preset.get("groups")
-    if table_name is None:
-        raise UnknownPresetError(f"--group: preset {preset['name']!r} has no table of groups")
-    with open(specs.TEMPLATES / "groups" / f"{table_name}.toml", "rb") as handle:
-        groups = {g["number"]: g for g in tomllib.load(handle)["group"]}
-    if number not in groups:
+    table = preset.get("groups")
+    if table is None:
+        raise UnknownGroupError(f"--group: preset {preset['name']!r} has no table of groups")
+    groups = {g["number"]: g for g in resources.read_toml(GROUPS, f"{table}.toml")["group"]}
+    if isinstance(number, bool) or not isinstance(number, int) or number not in groups:
         raise UnknownGroupError(f"--group {number}: no such group in preset {preset['name']!r}; "
                                 f"groups are {min(groups)}–{max(groups)}")
     values = dict(values)
     for key, value in groups[number].items():
         if key != "number":
             if key not in spec.parameter:
-                raise UnknownParameterError(f"group {number} sets unknown parameter {key!r}")
-            values[key] = value
+                raise SpecError(f"{GROUPS}/{table}.toml", key,
+                                f"group {number} sets an unknown parameter")
+            values[key] = _coerce(spec.parameter[key], value, f"group {number}")
     return values
 
 
 def parse_number(key, text):
-    """A finite float from ``text``, or ParameterValueError naming ``key``."""
-    try:
+    """A finite float from a plain ASCII decimal ``text``, or ParameterValueError."""
+    if isinstance(text, bool):
+        raise ParameterValueError(f"parameter {key}: {text!r} is not a number")
+    if isinstance(text, (int, float, np.integer, np.floating)):
         value = float(text)
-    except (TypeError, ValueError):
-        raise ParameterValueError(f"parameter {key}: {text!r} is not a number") from None
+    else:
+        stripped = str(text).strip()
+        if not NUMBER.match(stripped):
+            raise ParameterValueError(f"parameter {key}: {str(text)[:40]!r} is not a number "
+                                      f"(plain digits, '.', an optional exponent)")
+        value = float(stripped)
     if not math.isfinite(value):
         raise ParameterValueError(f"parameter {key}: {text!r} is not a finite number")
     return value
 
 
-def apply_overrides(spec, values, assignments):
-    """Values with each ``KEY=VALUE`` of ``assignments`` applied."""
+def _coerce(parameter, value, where):
+    """A parameter value in its canonical form: float, 1-based choice index, or a
+    list of floats for a per-item parameter."""
+    if parameter.axis:
+        if isinstance(value, str):
+            parts = [p for p in value.split(",")]
+            if any(not p.strip() for p in parts):
+                raise ParameterValueError(f"{parameter.key}: {value!r}: give one number per "
+                                          f"{parameter.axis}, separated by commas")
+            value = parts
+        elif not isinstance(value, (list, tuple, np.ndarray)):
+            value = [value]
+        if not 1 <= len(value) <= 64:
+            raise ParameterValueError(f"{parameter.key}: give 1 to 64 values, not {len(value)}")
+        return [parse_number(parameter.key, v) for v in value]
+    if parameter.kind == "choice":
+        if isinstance(value, str) and value.strip() in parameter.choices:
+            return float(parameter.choices.index(value.strip()) + 1)
+        if isinstance(value, (int, float)) and not isinstance(value, bool) and \
+                float(value).is_integer() and 1 <= value <= len(parameter.choices):
+            return float(value)
+        raise ParameterValueError(f"parameter {parameter.key} = {str(value)[:40]!r}: must be "
+                                  f"one of {', '.join(parameter.choices)}")
+    return parse_number(parameter.key, value)
+
+
+def apply_overrides(spec, values, overrides):
+    """Values with each key → value of ``overrides`` applied (values as typed: text
+    from the command line, or Python numbers, lists and words from the API)."""
     values = dict(values)
-    for assignment in assignments:
-        key, sep, text = assignment.partition("=")
-        key = key.strip()
-        if not sep:
-            raise ParameterValueError(f"--set {assignment!r}: expected KEY=VALUE")
+    for key, value in overrides.items():
         if key not in spec.parameter:
             close = [k for k in spec.parameter if key in k or k in key]
             hint = f" (did you mean {', '.join(close)}?)" if close else ""
-            raise UnknownParameterError(f"--set: unknown parameter {key!r}{hint}; "
-                                        f"parameters are: {', '.join(spec.parameter)}")
-        values[key] = parse_number(key, text.strip())
+            raise UnknownParameterError(f"unknown parameter {key!r}{hint}; parameters are: "
+                                        f"{', '.join(spec.parameter)}")
+        values[key] = _coerce(spec.parameter[key], value, "--set")
     return values
 
 
-def breaks_bounds(parameter, value):
-    """True when ``value`` is outside the parameter's own bounds."""
-    if parameter.kind == "flag":
-        return value not in (0, 1)
-    lo, hi = parameter.min, parameter.max
-    return ((lo is not None and (value <= lo if parameter.min_open else value < lo))
-            or (hi is not None and (value >= hi if parameter.max_open else value > hi)))
+def parse_assignments(assignments):
+    """``KEY=VALUE`` strings (the command line's --set) as an ordered dict."""
+    out = {}
+    for assignment in assignments:
+        key, sep, text = assignment.partition("=")
+        if not sep or not key.strip():
+            raise ParameterValueError(f"--set {assignment[:60]!r}: expected KEY=VALUE")
+        out[key.strip()] = text.strip()
+    return out
 
 
 def _describe(spec, keys, values):
-    def unit(key):
-        u = spec.parameter[key].unit
-        return "" if u == "-" else f" {u}"
-    return ", ".join(f"{key} = {values[key]:g}{unit(key)}" for key in keys)
+    def show(key):
+        p = spec.parameter[key]
+        unit = "" if p.unit in ("-", "count") else f" {p.unit}"
+        value = values[key]
+        if p.kind == "choice":
+            return f"{key} = {p.choices[int(value) - 1]}"
+        if p.axis:
+            return f"{key} = " + ",".join(f"{v:g}" for v in value) + unit
+        return f"{key} = {value:g}{unit}"
+    return ", ".join(show(k) for k in keys if k in spec.parameter)
 
 
-def validate(spec, values, trace_points=0):
-    """Raise the first error a user would need to fix; return the values as floats."""
+def validate(spec, values, trace_points=0, tables=None):
+    """Raise the first error a user would need to fix; return the values.
+
+    Bounds first (each parameter on its own), then the per-item tables' shapes,
+    then every input rule through its calc function.
+    """
+    values = dict(values)
     for parameter in spec.parameters:
-        value = parse_number(parameter.key, values[parameter.key])
-        if breaks_bounds(parameter, value):
-            raise ParameterValueError(
-                f"parameter {parameter.key} = {value:g}: must be {parameter.bounds_text()}")
-        values[parameter.key] = value
-    namespace = dict(values, trace_points=trace_points)
-    functions = {"__builtins__": {}, "abs": abs, "min": min, "max": max,
-                 **{name: getattr(math, name) for name in
-                    ("sqrt", "tan", "sin", "cos", "asin", "acos", "atan", "pi", "radians",
-                     "degrees")}}
+        value = values[parameter.key]
+        items = value if parameter.axis else [value]
+        for number, item in enumerate(items, start=1):
+            item = parse_number(parameter.key, item)
+            if parameter.breaks_bounds(item):
+                where = f" of {spec.axis[parameter.axis].label_en.lower()} {number}" \
+                    if parameter.axis else ""
+                shown = parameter.choices[int(item) - 1] if parameter.kind == "choice" and \
+                    float(item).is_integer() and 1 <= item <= len(parameter.choices) else f"{item:g}"
+                raise ParameterValueError(f"parameter {parameter.key}{where} = {shown}: must be "
+                                          f"{parameter.bounds_text()}")
+    sizes = axis_sizes(spec, values)
+    for axis in spec.axes:
+        if sizes[axis.key] > axis.max:
+            raise LayoutError(f"{sizes[axis.key]} {axis.label_en.lower()}s: at most {axis.max}")
+        if sizes[axis.key] < 1:
+            raise LayoutError(f"the {axis.en.lower()} table needs at least one "
+                              f"{axis.label_en.lower()}")
+    if not spec.rules:
+        return values
+    tables = dict(tables or {})
+    if trace_points and not tables:
+        tables = {c: np.zeros(trace_points) for c in spec.table_column}
+    flags = evaluate(spec, values, tables, keys=[r.key for r in spec.rules])
     for rule in spec.rules:
-        try:
-            broken = eval(rule.python, functions, namespace)  # noqa: S307 (our own data)
-        except (ValueError, ZeroDivisionError):
-            broken = True                        # a math domain error is a broken rule too
-        if broken:
-            raise GeometryError(f"{_describe(spec, rule.names, values)}: {rule.en}")
+        flag = np.atleast_1d(flags[rule.key])
+        if np.any(flag != 0):
+            where = ""
+            if rule.items:
+                first = int(np.flatnonzero(flag)[0]) + 1
+                where = f"{spec.axis[rule.items].label_en.lower()} {first}: "
+            raise GeometryError(f"{where}{_describe(spec, rule.names, values)}: {rule.en}")
     return values

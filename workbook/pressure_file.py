@@ -1,10 +1,13 @@
-"""Measured cylinder-pressure traces from CSV or xlsx files.
+"""Measured cylinder-pressure traces from CSV or xlsx files (or two columns of numbers).
 
 Two columns: crank angle [deg] (0 = TDC of the intake stroke, firing TDC at 360°,
-any range such as −360…360) and absolute pressure [MPa]; an optional header row;
-rows in any order.  The trace is wrapped into one 720° cycle, sorted and closed
-(a point below 0° and one above 720°) so that the workbook's interpolation covers
-every grid angle.
+any range such as −360…360) and absolute pressure [MPa]; an optional header row
+(a first row of which neither cell is a number); rows in any order.  The trace is
+wrapped into one working cycle, sorted and closed (a point before 0° and one after
+the cycle) so that the workbook's interpolation covers every grid angle.  A crank
+angle that occurs twice (−360° and 360° are one angle) keeps the mean of its
+pressures when they agree within REPEAT_TOLERANCE, else the file is refused.
+Nothing is dropped silently.
 """
 import csv
 import math
@@ -12,16 +15,25 @@ from pathlib import Path
 
 import numpy as np
 
-from workbook.errors import PressureFileError
+from crankbook.errors import PressureFileError
+from crankbook.params import NUMBER
+from crankbook.safe_read import Unreadable, check_container
 
-CYCLE = 720.0
-MAX_GAP = 30.0          # deg: a coarser trace does not describe the cycle
-MAX_PRESSURE = 50.0     # MPa: beyond any engine; such numbers are kPa or bar
+MAX_GAP = 30.0             # deg: a coarser trace does not describe the cycle
+MAX_PRESSURE = 50.0        # MPa: beyond any engine; such numbers are kPa or bar
 MAX_ROWS = 200_000
+MAX_BYTES = 20 * 1024 * 1024
+REPEAT_TOLERANCE = 0.02    # relative: one angle measured twice (e.g. −360° and 360°)
+SAME_ANGLE = 1e-9          # deg: angles closer than this are one angle
 
 
 def _rows_from_csv(path):
-    text = path.read_text(encoding="utf-8-sig", errors="replace")
+    raw = path.read_bytes()
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise PressureFileError(f"pressure file {path}: not UTF-8 text; save it as CSV "
+                                f"(UTF-8) with two columns") from None
     try:
         dialect = csv.Sniffer().sniff(text[:4096], delimiters=",;\t ")
     except csv.Error:
@@ -32,28 +44,45 @@ def _rows_from_csv(path):
 def _rows_from_xlsx(path):
     import openpyxl
     try:
+        check_container(path)
         book = openpyxl.load_workbook(path, read_only=True, data_only=True)
-    except Exception as error:
+        try:
+            sheet = book.worksheets[0]
+            rows = []
+            for row in sheet.iter_rows(values_only=True):
+                if len(rows) > MAX_ROWS:
+                    break
+                if any(c is not None and str(c).strip() for c in row):
+                    rows.append(list(row))
+        finally:
+            book.close()
+    except Unreadable as reason:
+        raise PressureFileError(f"pressure file {path}: {reason}") from None
+    except Exception as error:      # openpyxl raises many kinds for broken files
         raise PressureFileError(f"pressure file {path}: cannot be read as xlsx "
                                 f"({type(error).__name__})") from None
-    sheet = book.worksheets[0]
-    rows = [list(r) for r in sheet.iter_rows(values_only=True)
-            if any(c is not None and str(c).strip() for c in r)]
-    book.close()
     return rows
 
 
 def _number(value):
+    """A float from a cell: a number, or plain ASCII decimal text; else None."""
+    if isinstance(value, bool) or value is None:
+        return None
     if isinstance(value, (int, float)):
-        return float(value)
-    return float(str(value).strip())
+        return float(value) if math.isfinite(value) else None
+    text = str(value).strip()
+    return float(text) if NUMBER.match(text) else None
 
 
-def read_trace(path):
-    """(angles [deg], pressures [MPa]) of the trace in ``path``, ready for the workbook."""
+def read_trace(path, cycle=720.0):
+    """(angles [deg], pressures [MPa]) of the trace in ``path``, ready for the workbook
+    of a ``cycle``-degree working cycle."""
     path = Path(path)
     if not path.is_file():
         raise PressureFileError(f"pressure file {path}: no such file")
+    if path.stat().st_size > MAX_BYTES:
+        raise PressureFileError(f"pressure file {path}: larger than "
+                                f"{MAX_BYTES // 2 ** 20} MB")
     suffix = path.suffix.lower()
     if suffix in (".csv", ".txt", ".tsv"):
         rows = _rows_from_csv(path)
@@ -62,66 +91,81 @@ def read_trace(path):
     else:
         raise PressureFileError(f"pressure file {path}: use a .csv or .xlsx file "
                                 f"(two columns: crank angle deg, pressure MPa)")
+    return _trace_of_rows(f"pressure file {path}", rows, cycle)
+
+
+def trace_from_columns(what, angles, pressures, cycle=720.0):
+    """A trace from two columns of numbers (the API's DataFrame), checked like a file."""
+    return _trace_of_rows(what, [[a, p] for a, p in zip(list(angles), list(pressures))], cycle)
+
+
+def _trace_of_rows(what, rows, cycle):
     if len(rows) > MAX_ROWS:
-        raise PressureFileError(f"pressure file {path}: more than {MAX_ROWS} rows")
+        raise PressureFileError(f"{what}: more than {MAX_ROWS} rows")
     angles, pressures = [], []
     for number, row in enumerate(rows, start=1):
         cells = [c for c in row if c is not None and str(c).strip() != ""]
-        if len(cells) < 2:
-            raise PressureFileError(f"pressure file {path}, row {number}: needs two columns, "
-                                    f"crank angle [deg] and pressure [MPa]")
-        try:
-            angle = _number(cells[0])
-        except ValueError:
-            if number == 1 and not angles:
-                continue                     # a header row
-            raise PressureFileError(f"pressure file {path}, row {number}: crank angle "
-                                    f"{cells[0]!r} is not a number") from None
-        try:
-            pressure = _number(cells[1])
-        except ValueError:
-            raise PressureFileError(f"pressure file {path}, row {number}: pressure "
-                                    f"{cells[1]!r} is not a number") from None
-        if not (math.isfinite(angle) and math.isfinite(pressure)):
-            raise PressureFileError(f"pressure file {path}, row {number}: values must be finite")
+        if len(cells) != 2:
+            raise PressureFileError(f"{what}, row {number}: needs exactly two columns, crank "
+                                    f"angle [deg] and pressure [MPa] (found {len(cells)})")
+        angle, pressure = _number(cells[0]), _number(cells[1])
+        if number == 1 and angle is None and pressure is None:
+            continue                          # a header row
+        if angle is None:
+            raise PressureFileError(f"{what}, row {number}: crank angle {str(cells[0])[:30]!r} "
+                                    f"is not a number")
+        if pressure is None:
+            raise PressureFileError(f"{what}, row {number}: pressure {str(cells[1])[:30]!r} "
+                                    f"is not a number")
         if pressure <= 0:
-            raise PressureFileError(f"pressure file {path}, row {number}: pressure {pressure:g} "
-                                    f"MPa must be > 0 (absolute pressure)")
+            raise PressureFileError(f"{what}, row {number}: pressure {pressure:g} MPa must be "
+                                    f"> 0 (absolute pressure)")
+        if abs(angle) > 100 * cycle:
+            raise PressureFileError(f"{what}, row {number}: crank angle {angle:g}° is far "
+                                    f"outside the cycle")
         angles.append(angle)
         pressures.append(pressure)
     if len(angles) < 2:
-        raise PressureFileError(f"pressure file {path}: needs at least two points, "
-                                f"found {len(angles)}")
+        raise PressureFileError(f"{what}: needs at least two points, found {len(angles)}")
     if max(pressures) > MAX_PRESSURE:
-        raise PressureFileError(f"pressure file {path}: pressures up to {max(pressures):g} look "
-                                f"like kPa or bar; the pressure column must be in MPa")
-    return close_cycle(path, np.array(angles), np.array(pressures))
+        raise PressureFileError(f"{what}: pressures up to {max(pressures):g} look like kPa or "
+                                f"bar; the pressure column must be in MPa")
+    return close_cycle(what, np.array(angles), np.array(pressures), cycle)
 
 
-def close_cycle(path, angles, pressures):
-    """Wrap into [0, 720), sort, check coverage, and add one point beyond each end."""
-    wrapped = np.mod(angles, CYCLE)
+def close_cycle(what, angles, pressures, cycle=720.0):
+    """Wrap into [0, cycle), merge repeats, sort, check coverage, and add one point
+    beyond each end."""
+    wrapped = np.mod(angles, cycle)
+    wrapped = np.where(cycle - wrapped < SAME_ANGLE, 0.0, wrapped)
     order = np.argsort(wrapped, kind="stable")
     wrapped, pressures = wrapped[order], pressures[order]
-    keep = np.ones(len(wrapped), bool)
-    for i in range(1, len(wrapped)):
-        if wrapped[i] == wrapped[i - 1]:
-            if not math.isclose(pressures[i], pressures[i - 1], rel_tol=1e-6):
-                raise PressureFileError(
-                    f"pressure file {path}: crank angle {wrapped[i]:g}° (mod 720°) appears twice "
-                    f"with different pressures")
-            keep[i] = False
-    wrapped, pressures = wrapped[keep], pressures[keep]
+    merged_a, merged_p = [], []
+    for angle, pressure in zip(wrapped, pressures):
+        if merged_a and angle - merged_a[-1][0] < SAME_ANGLE:
+            merged_a[-1].append(angle)
+            merged_p[-1].append(pressure)
+        else:
+            merged_a.append([angle])
+            merged_p.append([pressure])
+    for group_a, group_p in zip(merged_a, merged_p):
+        if max(group_p) - min(group_p) > REPEAT_TOLERANCE * max(group_p):
+            raise PressureFileError(
+                f"{what}: crank angle {group_a[0]:g}° (mod {cycle:g}°) appears "
+                f"{len(group_p)} times with pressures {min(group_p):g} and {max(group_p):g} "
+                f"MPa, more than {REPEAT_TOLERANCE:.0%} apart")
+    wrapped = np.array([a[0] for a in merged_a])
+    pressures = np.array([float(np.mean(p)) for p in merged_p])
     if len(wrapped) < 2:
-        raise PressureFileError(f"pressure file {path}: needs at least two distinct crank angles")
-    gaps = np.diff(np.concatenate([wrapped, [wrapped[0] + CYCLE]]))
+        raise PressureFileError(f"{what}: needs at least two distinct crank angles")
+    gaps = np.diff(np.concatenate([wrapped, [wrapped[0] + cycle]]))
     worst = int(np.argmax(gaps))
     if gaps[worst] > MAX_GAP:
         start = wrapped[worst]
         raise PressureFileError(
-            f"pressure file {path}: crank angles must cover the whole 0–720° cycle; "
-            f"nothing between {start:g}° and {(start + gaps[worst]) % CYCLE:g}° "
-            f"(gap {gaps[worst]:g}°, at most {MAX_GAP:g}° allowed)")
-    angles = np.concatenate([[wrapped[-1] - CYCLE], wrapped, [wrapped[0] + CYCLE]])
+            f"{what}: crank angles must cover the whole 0–{cycle:g}° cycle; nothing between "
+            f"{start:g}° and {(start + gaps[worst]) % cycle:g}° (gap {gaps[worst]:g}°, at most "
+            f"{MAX_GAP:g}° allowed)")
+    angles = np.concatenate([[wrapped[-1] - cycle], wrapped, [wrapped[0] + cycle]])
     pressures = np.concatenate([[pressures[-1]], pressures, [pressures[0]]])
     return angles, pressures

@@ -1,8 +1,10 @@
-"""Recalculate workbooks in LibreOffice headless, with recalculation on load forced.
+"""Recalculate workbooks in a real spreadsheet engine: LibreOffice or Gnumeric.
 
 LibreOffice keeps the cached values of an .xlsx by default; a private profile
 whose OOXMLRecalcMode is 0 ("always") makes it recompute every formula, and
-converting the file back to .xlsx stores the recomputed values.
+converting the file back to .xlsx stores the recomputed values.  Gnumeric's
+``ssconvert --recalc`` recomputes before saving.  Each run gets its own profile
+and home directory, removed afterwards whatever happened.
 """
 import os
 import shutil
@@ -10,7 +12,7 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from workbook.errors import RecalculationError
+from crankbook.errors import RecalculationError
 
 PROFILE_SETTINGS = """<?xml version="1.0" encoding="UTF-8"?>
 <oor:items xmlns:oor="http://openoffice.org/2001/registry"
@@ -20,17 +22,28 @@ PROFILE_SETTINGS = """<?xml version="1.0" encoding="UTF-8"?>
 <item oor:path="/org.openoffice.Office.Common/Misc"><prop oor:name="FirstRun" oor:op="fuse"><value>false</value></prop></item>
 </oor:items>
 """
-CANDIDATES = ["soffice", "libreoffice", "/usr/lib/libreoffice/program/soffice",
-              "/opt/libreoffice/program/soffice"]
+SOFFICE = ["soffice", "libreoffice", "/usr/lib/libreoffice/program/soffice",
+           "/opt/libreoffice/program/soffice"]
+SSCONVERT = ["ssconvert", "/usr/bin/ssconvert"]
+ENGINES = ("libreoffice", "gnumeric")
 
 
-def find_soffice():
-    """Path of the LibreOffice executable, or None."""
-    for candidate in CANDIDATES:
+def _find(candidates):
+    for candidate in candidates:
         found = shutil.which(candidate) or (candidate if os.path.isfile(candidate) else None)
         if found:
             return found
     return None
+
+
+def find_soffice():
+    """Path of the LibreOffice executable, or None."""
+    return _find(SOFFICE)
+
+
+def find_ssconvert():
+    """Path of Gnumeric's ssconvert, or None."""
+    return _find(SSCONVERT)
 
 
 def make_profile(directory):
@@ -41,27 +54,56 @@ def make_profile(directory):
     return Path(directory).resolve().as_uri()
 
 
-def convert(paths, outdir, target="xlsx", timeout=600):
-    """Open each of ``paths`` in one LibreOffice process with recalculation forced and
-    save it as ``target`` in ``outdir``; return the output paths in order."""
+def _run(command, timeout, home):
+    """Run ``command`` in its own process group; kill the whole group on timeout."""
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env={**os.environ, "HOME": home}, start_new_session=True)
+    try:
+        out, err = process.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, 9)
+        process.communicate()
+        raise RecalculationError(f"{Path(command[0]).name} did not finish within "
+                                 f"{timeout} s") from None
+    except BaseException:
+        os.killpg(process.pid, 9)
+        process.communicate()
+        raise
+    return process.returncode, out, err
+
+
+def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
+    """Recalculate each of ``paths`` in ``engine`` and save it as ``target`` in
+    ``outdir``; return the output paths in order."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    outputs = [outdir / (Path(p).stem + "." + target.split(":")[0]) for p in paths]
+    if engine == "gnumeric":
+        ssconvert = find_ssconvert()
+        if ssconvert is None:
+            raise RecalculationError("Gnumeric (ssconvert) is not installed; install Debian's "
+                                     "gnumeric")
+        with tempfile.TemporaryDirectory(prefix="crankbook-gnumeric-") as home:
+            for source, output in zip(paths, outputs):
+                code, out, err = _run([ssconvert, "--recalc", str(source), str(output)],
+                                      timeout, home)
+                if not output.is_file():
+                    raise RecalculationError(f"Gnumeric wrote no {output}: "
+                                             f"{(err or out).strip()[:300]}")
+        return outputs
+    if engine != "libreoffice":
+        raise RecalculationError(f"unknown engine {engine!r}; engines are {', '.join(ENGINES)}")
     soffice = find_soffice()
     if soffice is None:
         raise RecalculationError("LibreOffice (soffice) is not installed; install Debian's "
                                  "libreoffice-calc-nogui")
-    outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="crankbook-lo-") as profile:
         command = [soffice, f"-env:UserInstallation={make_profile(profile)}", "--headless",
                    "--norestore", "--nolockcheck", "--convert-to", target,
                    "--outdir", str(outdir)] + [str(p) for p in paths]
-        try:
-            done = subprocess.run(command, capture_output=True, text=True, timeout=timeout,
-                                  env={**os.environ, "HOME": profile})
-        except subprocess.TimeoutExpired:
-            raise RecalculationError(f"LibreOffice did not finish within {timeout} s") from None
-    outputs = [outdir / (Path(p).stem + "." + target.split(":")[0]) for p in paths]
+        code, out, err = _run(command, timeout, profile)
     missing = [str(p) for p in outputs if not p.is_file()]
     if missing:
         raise RecalculationError("LibreOffice wrote no " + ", ".join(missing)
-                                 + f": {done.stderr.strip() or done.stdout.strip()}")
+                                 + f": {(err or out).strip()[:300]}")
     return outputs

@@ -1,29 +1,70 @@
-"""Sheet units: conversion factors to SI and number formats (templates/units.toml)."""
-import tomllib
-from functools import lru_cache
-from pathlib import Path
+"""Sheet units (templates/units.toml): dimension, factor to SI, number format.
 
-UNITS_FILE = Path(__file__).resolve().parent.parent / "templates" / "units.toml"
+The same table serves the evaluator (values in and out of SI), the formula compiler
+(``{key|unit}`` conversions) and the grader (unit slips only within one dimension).
+"""
+import math
+
+from crankbook import resources
 
 
-@lru_cache(maxsize=None)
 def _table():
-    with open(UNITS_FILE, "rb") as handle:
-        return tomllib.load(handle)["unit"]
-
-
-def si_factor(unit):
-    """Factor that turns a value in ``unit`` into SI."""
-    try:
-        return _table()[unit]["si"]
-    except KeyError:
-        raise KeyError(f"unit {unit!r} is not defined in {UNITS_FILE.name}") from None
-
-
-def number_format(unit):
-    """Excel number format for cells in ``unit``."""
-    return _table()[unit]["format"]
+    return resources.read_toml("units.toml")["unit"]
 
 
 def known(unit):
     return unit in _table()
+
+
+def _entry(unit):
+    try:
+        return _table()[unit]
+    except KeyError:
+        raise KeyError(f"unit {unit!r} is not defined in units.toml") from None
+
+
+def si_factor(unit):
+    """Factor that turns a value in ``unit`` into SI."""
+    return _entry(unit)["si"]
+
+
+def dimension(unit):
+    return _entry(unit)["dimension"]
+
+
+def number_format(unit):
+    """Excel number format for cells in ``unit``."""
+    return _entry(unit)["format"]
+
+
+def units_of(dimension_name):
+    """Every unit of one dimension."""
+    return [u for u, e in _table().items() if e["dimension"] == dimension_name]
+
+
+def convertible(source, target):
+    return dimension(source) == dimension(target)
+
+
+def _power_of_ten(ratio):
+    exponent = round(math.log10(ratio))
+    return exponent if exponent and math.isclose(ratio, 10.0 ** exponent, rel_tol=1e-12) else None
+
+
+def excel_conversion(reference, source, target):
+    """Excel text of ``reference`` (in ``source``) expressed in ``target``."""
+    if source == target:
+        return reference
+    if dimension(source) == "angle" and {source, target} == {"deg", "rad"}:
+        return f"{'RADIANS' if target == 'rad' else 'DEGREES'}({reference})"
+    ratio = si_factor(source) / si_factor(target)
+    if math.isclose(ratio, 1.0, rel_tol=1e-15):
+        return reference
+    exponent = _power_of_ten(ratio)
+    if exponent is not None and exponent > 0:
+        return f"({reference}*{10 ** exponent})"
+    if exponent is not None:
+        return f"({reference}/{10 ** -exponent})"
+    if {source, target} == {"rpm", "rad/s"}:
+        return f"({reference}*PI()/30)" if target == "rad/s" else f"({reference}*30/PI())"
+    return f"({reference}*{ratio!r})"

@@ -8,12 +8,14 @@ import tempfile
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from workbook import __version__, evaluate, params
-from workbook.assignment import template as templates
-from workbook.assignment.student_book import write_student_workbook
-from workbook.assignment.variants import draw_class, fingerprint, read_roster
-from workbook.errors import BuildOptionError
-from workbook.writer.build import write_workbook
+from crankbook import __version__, evaluate, params
+from crankbook.assignment import template as templates
+from crankbook.assignment.student_book import write_student_workbook
+from crankbook.assignment.variants import draw_class, fingerprint, read_roster
+from crankbook.errors import BuildOptionError
+from crankbook import resources
+from crankbook.api import results_for
+from crankbook.writer.build import write_workbook
 
 MANIFEST = "manifest.csv"
 SETTINGS = "assignment.json"
@@ -45,10 +47,10 @@ def _write_student(job):
     staging = Path(staging)
     sid = row["student_id"]
     values = params.validate(spec, dict(drawn))
-    key_results = write_workbook(spec, values, {}, evaluate.crank_angle_grid(spec), lang,
-                                 preset_meta, staging / "keys" / f"{sid}.xlsx")
+    key = results_for(spec, preset_meta, values)
+    write_workbook(key, lang, staging / "keys" / f"{sid}.xlsx")
     expected = evaluate.evaluate(spec, values, {}, expected_grid(assignment, spec)) \
-        if assignment.grid_angles is not None else key_results
+        if assignment.grid_angles is not None else key.results
     sizes = {g.key: len(expected[g.key]) for g in spec.grids}
     write_student_workbook(staging / "students" / f"{sid}.xlsx", assignment, spec, row, values,
                            given_data(assignment, spec, values), lang, sizes)
@@ -90,7 +92,9 @@ def assign(preset, roster_path, seed, lang, outdir, progress=True):
                 writer.writerow([row["student_id"], row["name"], *[row.get(f, "") for f in extra],
                                  *[repr(float(values[k])) for k in keys],
                                  fingerprint(values, keys)])
-        shutil.copy(templates.ASSIGNMENTS / f"{assignment.key}.toml", staging / RUBRIC)
+        (staging / RUBRIC).write_text(resources.read_text(templates.ASSIGNMENTS,
+                                                          f"{assignment.key}.toml"),
+                                      encoding="utf-8")
         (staging / SETTINGS).write_text(json.dumps(
             {"assignment": assignment.key, "preset": preset, "seed": seed, "lang": lang,
              "crankbook": __version__}, indent=1) + "\n", encoding="utf-8")

@@ -18,12 +18,12 @@ from pathlib import Path
 import numpy as np
 from openpyxl.utils.cell import range_boundaries
 
-from workbook import evaluate, params, recalc
-from workbook.assignment import template as templates
-from workbook.assignment.assign import MANIFEST, RUBRIC, SETTINGS, expected_grid
-from workbook.assignment.results import write_results
-from workbook.assignment.safe_read import Unreadable, open_untrusted
-from workbook.errors import AssignmentDirError, RecalculationError
+from crankbook import evaluate, params, recalc
+from crankbook.assignment import template as templates
+from crankbook.assignment.assign import MANIFEST, RUBRIC, SETTINGS, expected_grid
+from crankbook.assignment.results import write_results
+from crankbook.safe_read import Unreadable, open_untrusted
+from crankbook.errors import AssignmentDirError, RecalculationError
 
 UNIT_FACTORS = {1e3: "×1000", 1e-3: "÷1000", 60 / (2 * math.pi): "rad/s ↔ rpm",
                 2 * math.pi / 60: "rpm ↔ rad/s", 180 / math.pi: "rad ↔ °", math.pi / 180: "° ↔ rad"}

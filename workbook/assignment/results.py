@@ -9,10 +9,10 @@ from pathlib import Path
 
 import xlsxwriter
 
-from workbook.atomic import atomic_path
-from workbook.writer.build import FIXED_TIME
-from workbook.writer.layout import unit_text
-from workbook.writer.styles import Styles
+from crankbook.atomic import atomic_path
+from crankbook.writer.build import FIXED_TIME
+from crankbook.writer.layout import unit_text
+from crankbook.writer.styles import Styles
 
 FORMULA_START = ("=", "+", "-", "@", "\t", "\r", "\n")
 

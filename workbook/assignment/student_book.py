@@ -4,11 +4,11 @@ results: nothing the key computes is anywhere in the file."""
 import xlsxwriter
 from xlsxwriter.utility import xl_rowcol_to_cell
 
-from workbook.atomic import atomic_path
-from workbook.formulas import quote_sheet
-from workbook.writer.build import FIXED_TIME
-from workbook.writer.layout import unit_text
-from workbook.writer.styles import Styles
+from crankbook.atomic import atomic_path
+from crankbook.formulas import quote_sheet
+from crankbook.writer.build import FIXED_TIME
+from crankbook.writer.layout import unit_text
+from crankbook.writer.styles import Styles
 
 TASK = {"zh": "任务", "en": "Task"}
 GIVEN = {"zh": "已知数据", "en": "Given data"}

@@ -3,10 +3,10 @@ sheets, the items and the rubric."""
 import tomllib
 from dataclasses import dataclass, field
 
-from workbook.errors import UnknownPresetError
-from workbook.spec import TEMPLATES
+from crankbook.errors import UnknownPresetError
+from crankbook import resources
 
-ASSIGNMENTS = TEMPLATES / "assignments"
+ASSIGNMENTS = "assignments"
 
 
 @dataclass
@@ -55,7 +55,7 @@ class Assignment:
 
 
 def names():
-    return sorted(p.stem for p in ASSIGNMENTS.glob("*.toml"))
+    return resources.names(ASSIGNMENTS)
 
 
 def for_preset(preset):
@@ -68,11 +68,15 @@ def for_preset(preset):
 
 
 def load(name, path=None):
-    path = path or ASSIGNMENTS / f"{name}.toml"
-    if not path.is_file():
-        raise UnknownPresetError(f"unknown assignment {name!r}")
-    with open(path, "rb") as handle:
-        data = tomllib.load(handle)
+    """An assignment template by name, or from ``path`` (the copy in a class directory)."""
+    if path is not None:
+        with open(path, "rb") as handle:
+            data = tomllib.load(handle)
+    elif resources.is_safe_name(name) and resources.exists(ASSIGNMENTS, f"{name}.toml"):
+        data = resources.read_toml(ASSIGNMENTS, f"{name}.toml")
+    else:
+        raise UnknownPresetError(f"unknown assignment {name!r}; assignments are "
+                                 f"{', '.join(names())}")
     head, rubric = data["assignment"], data["rubric"]
     items = [Item(key=i["key"], points=float(i["points"]),
                   tolerance=float(i.get("tolerance", rubric["tolerance"])),

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from workbook import evaluate, params
-from workbook.errors import CrankbookError, RosterError
+from crankbook import evaluate, params
+from crankbook.errors import CrankbookError, RosterError
 
 MAX_ATTEMPTS = 500
 

@@ -1,33 +1,109 @@
-"""Native scatter charts: one per quantity sheet, crank angle on the x axis."""
-from workbook.writer.layout import label, unit_text
+"""Native charts: x–y scatter lines (over the grid or any column), per-item curves,
+equal axes for profiles and polar diagrams, and column charts of spectra."""
+import math
 
-COLOURS = ["#1F77B4", "#D62728", "#2CA02C", "#FF7F0E", "#9467BD", "#8C564B"]
+import numpy as np
+
+from crankbook.formulas import quote_sheet
+from crankbook.writer.layout import FIRST_ROW, label, unit_text
+
+COLOURS = ["#1F77B4", "#D62728", "#2CA02C", "#FF7F0E", "#9467BD", "#8C564B", "#E377C2",
+           "#7F7F7F", "#BCBD22", "#17BECF", "#393B79", "#AD494A", "#637939", "#8C6D31",
+           "#843C39", "#7B4173"]
+GRIDLINES = {"visible": True, "line": {"color": "#D9D9D9"}}
 
 
-def add_quantity_chart(book, sheet_spec, layout, x_range):
-    """A scatter chart of the sheet's ``chart`` series against crank angle."""
+def _ranges(layout, key, results):
+    """(name, range) of each curve of a series: one, or one per item."""
+    spec, locator = layout.spec, layout.locator
+    quantity = spec.quantity[key]
+    place = layout.places[key]
+    if not quantity.items:
+        return [(label(quantity, layout.lang), locator.column_range(key))]
+    axis = spec.axis[quantity.items]
+    return [(f"{label(quantity, layout.lang)} — {axis.label(layout.lang, i + 1)}",
+             locator.column_range(key, col=place.col + i)) for i in range(place.count)]
+
+
+def _nice(value):
+    """A round number ≥ value (1, 2, 2.5 or 5 × 10^k)."""
+    if value <= 0 or not math.isfinite(value):
+        return 1.0
+    power = 10 ** math.floor(math.log10(value))
+    for step in (1, 2, 2.5, 5, 10):
+        if step * power >= value:
+            return step * power
+    return 10 * power
+
+
+def _equal_bounds(xs, ys):
+    """Axis limits with one scale on both axes (a circle stays a circle)."""
+    x = np.concatenate([np.ravel(v) for v in xs]) if xs else np.zeros(1)
+    y = np.concatenate([np.ravel(v) for v in ys]) if ys else np.zeros(1)
+    x, y = x[np.isfinite(x)], y[np.isfinite(y)]
+    if not x.size or not y.size:
+        return None
+    half = _nice(max(np.ptp(x), np.ptp(y), 1e-12) / 2 * 1.1)
+    centre = [(np.max(v) + np.min(v)) / 2 for v in (x, y)]
+    step = half / 2
+    return [(math.floor((c - half) / step) * step, math.floor((c - half) / step) * step + 2 * half)
+            for c in centre]
+
+
+def add_chart(book, chart_spec, sheet_spec, layout, results):
+    """A chart of ``chart_spec`` (y series against x) for a sheet."""
     spec, lang = layout.spec, layout.lang
-    chart = book.add_chart({"type": "scatter", "subtype": "straight"})
-    for index, key in enumerate(sheet_spec.chart):
-        quantity = spec.quantity[key]
-        chart.add_series({
-            "name": label(quantity, lang),
-            "categories": x_range,
-            "values": layout.locator.column_range(key),
-            "line": {"color": COLOURS[index % len(COLOURS)], "width": 1.5},
-            "marker": {"type": "none"},
-        })
-    unit = unit_text(sheet_spec.unit)
-    chart.set_title({"name": label(sheet_spec, lang, "title_"),
+    sheet = layout.sheet_name[sheet_spec.key]
+    x_key = chart_spec.x or sheet_spec.grid
+    x_q = spec.quantity[x_key]
+    kind = "column" if chart_spec.type == "column" else "scatter"
+    chart = book.add_chart({"type": kind} if kind == "column" else
+                           {"type": "scatter", "subtype": "straight"})
+    x_ranges = _ranges(layout, x_key, results) if chart_spec.x else \
+        [(None, f"{quote_sheet(sheet)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}")]
+    curves, xs, ys = 0, [], []
+    for key in chart_spec.y:
+        for index, (name, values) in enumerate(_ranges(layout, key, results)):
+            x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
+            series = {"name": name, "categories": x_range, "values": values}
+            colour = COLOURS[curves % len(COLOURS)]
+            if kind == "column":
+                series["fill"] = {"color": colour}
+                series["gap"] = 50
+            else:
+                series["line"] = {"color": colour, "width": 1.5}
+                series["marker"] = {"type": "none"}
+            chart.add_series(series)
+            y = np.asarray(results[key], dtype=float)
+            ys.append(y if y.ndim == 1 else y[:, index])
+            x = np.asarray(results[x_key], dtype=float)
+            xs.append(x if x.ndim == 1 else x[:, index])
+            curves += 1
+    chart.set_title({"name": label(chart_spec, lang, "title_"),
                      "name_font": {"size": 11, "bold": True}})
-    grid = spec.quantity[sheet_spec.grid]
-    low, high, major = grid.axis
-    chart.set_x_axis({"name": f"{label(grid, lang)} [{unit_text(grid.unit)}]", "min": low,
-                      "max": high, "major_unit": major, "major_gridlines": {"visible": True,
-                                                            "line": {"color": "#D9D9D9"}},
-                      "label_position": "low"})
-    chart.set_y_axis({"name": f"{label(sheet_spec, lang, 'axis_')} [{unit}]",
-                      "major_gridlines": {"visible": True, "line": {"color": "#D9D9D9"}}})
-    chart.set_legend({"position": "bottom"} if len(sheet_spec.chart) > 1 else {"none": True})
-    chart.set_size({"width": 760, "height": 430})
+    x_name = label(chart_spec, lang, "x_axis_") or label(x_q, lang)
+    x_unit = unit_text(chart_spec.x_unit or x_q.unit)
+    x_axis = {"name": f"{x_name} [{x_unit}]", "major_gridlines": GRIDLINES,
+              "label_position": "low"}
+    y_axis = {"name": f"{label(chart_spec, lang, 'axis_')} [{unit_text(chart_spec.unit)}]",
+              "major_gridlines": GRIDLINES}
+    if chart_spec.x is None and x_q.chart_range and x_q.chart_range[0] is not None \
+            and kind == "scatter":
+        low, high, major = x_q.chart_range
+        x_axis.update({"min": low, "max": high, "major_unit": major})
+    size = {"width": 760, "height": 430}
+    if chart_spec.equal_axes:
+        bounds = _equal_bounds(xs, ys)
+        if bounds:
+            (x0, x1), (y0, y1) = bounds
+            x_axis.update({"min": x0, "max": x1, "major_unit": (x1 - x0) / 4})
+            y_axis.update({"min": y0, "max": y1, "major_unit": (y1 - y0) / 4})
+            x_axis["crossing"] = y0
+            y_axis["crossing"] = x0
+        chart.set_plotarea({"layout": {"x": 0.16, "y": 0.12, "width": 0.72, "height": 0.72}})
+        size = {"width": 560, "height": 560}
+    chart.set_x_axis(x_axis)
+    chart.set_y_axis(y_axis)
+    chart.set_legend({"position": "bottom"} if curves > 1 else {"none": True})
+    chart.set_size(size)
     return chart

@@ -1,10 +1,19 @@
-"""Where things go: sheet names in the chosen language, series columns and rows."""
-from workbook.formulas import Locator
+"""Where things go: sheet names in the chosen language, and the place of every key.
 
-FIRST_ROW = 5            # 0-based row of the first grid point on every series sheet
+The layout is decided before anything is written, so that every formula can refer
+to any key; each sheet writer then fills the places it is given.
+"""
+from dataclasses import dataclass, field
+
+from crankbook.formulas import Locator, Place
+from crankbook.spec import GUARD
+
+FIRST_ROW = 5            # 0-based row of the first grid point / item on series and items sheets
+SCALAR_FIRST_ROW = 4     # first value row of a scalars sheet
 OTHER = {"zh": "en", "en": "zh"}
 FIXED_SHEETS = {"parameters": {"zh": "参数", "en": "Parameters"},
                 "summary": {"zh": "汇总", "en": "Summary"}}
+PARAMETER_TABLE_ROW = 6  # header row of the Parameters sheet's input table
 
 
 def label(item, lang, attr=""):
@@ -13,41 +22,188 @@ def label(item, lang, attr=""):
 
 
 def unit_text(unit):
-    return {"deg": "°", "-": "–"}.get(unit, unit)
+    return {"deg": "°", "-": "–", "count": "–"}.get(unit, unit)
+
+
+@dataclass
+class Row:
+    """One row of the Parameters sheet: what it shows and where."""
+    kind: str            # group, parameter, heading, scalar, bound, rule, valid
+    row: int
+    item: object = None  # the spec object (group words, Parameter, Quantity)
+
+
+@dataclass
+class ItemsPlan:
+    """An items sheet: one row per item, inputs then results then checks."""
+    sheet: object
+    inputs: list = field(default_factory=list)      # per-item Parameters
+    columns: list = field(default_factory=list)     # per-item Quantities (results, rules)
 
 
 class Layout:
-    def __init__(self, spec, lang, grid_sizes, table_lengths=None):
-        """``grid_sizes``: grid key -> number of rows."""
+    def __init__(self, spec, lang, grid_sizes, axis_sizes, table_lengths=None):
+        """``grid_sizes``: grid key -> rows; ``axis_sizes``: axis key -> items."""
         self.spec = spec
         self.lang = lang
         self.other = OTHER[lang]
+        self.axis_sizes = axis_sizes
         self.sheet_name = {key: names[lang] for key, names in FIXED_SHEETS.items()}
         for sheet in spec.sheets:
             self.sheet_name[sheet.key] = label(sheet, lang)
-        # The first sheet on a grid holds its values; others refer to them.
         self.master = {}
         for sheet in spec.sheets:
             if sheet.kind == "series":
                 self.master.setdefault(sheet.grid, sheet.key)
-        columns = {grid: (self.sheet_name[home], 0, grid) for grid, home in self.master.items()}
-        self.table_start = {}
         self.table_capacity = {t.key: max(t.capacity, (table_lengths or {}).get(t.key, 0))
                                for t in spec.input_tables}
+        grid_rows = {g: (FIRST_ROW, FIRST_ROW + n - 1) for g, n in grid_sizes.items()}
+        self.locator = Locator(spec, {}, grid_rows, {}, axis_sizes)
+        self.places = self.locator.places
+        self.table_start = {}
+        self.column_of = {}                  # series key -> first column on its sheet
+        self._place_series_sheets()
+        self.items_plans = self._place_items_sheets()
+        self.parameter_rows = self._place_parameters_sheet()
+        self.summary_rows = self._place_summary_sheet()
+        self._place_scalar_sheets()
+        self.defined_names = {}             # name -> reference, filled by the writers
+
+    # ------------------------------------------------------------ per sheet kind
+    def _place_series_sheets(self):
+        spec = self.spec
+        for grid_key, home in self.master.items():
+            self.places[grid_key] = Place("column", self.sheet_name[home], FIRST_ROW, 0,
+                                          grid=grid_key)
         for sheet in spec.sheets:
             if sheet.kind != "series":
                 continue
-            for index, column in enumerate(sheet.columns, start=1):
-                columns[column.key] = (self.sheet_name[sheet.key], index, sheet.grid)
-        for table in spec.input_tables:
-            sheet = next(s for s in spec.sheets if s.key == table.sheet)
-            self.table_start[table.key] = len(sheet.columns) + 2
-        grid_rows = {g: (FIRST_ROW, FIRST_ROW + n - 1) for g, n in grid_sizes.items()}
-        self.locator = Locator(spec, columns, grid_rows)
-        self.defined_names = {}   # name -> reference, filled by the sheet writers
+            col = 1
+            for column in sheet.columns:
+                count = self.axis_sizes[column.items] if column.items else 1
+                kind = "block" if column.items else "column"
+                self.places[column.key] = Place(kind, self.sheet_name[sheet.key], FIRST_ROW, col,
+                                                grid=sheet.grid, count=count)
+                self.column_of[column.key] = col
+                col += count
+            for table in spec.input_tables:
+                if table.sheet == sheet.key:
+                    self.table_start[table.key] = col + 1
+                    for offset, column in enumerate(table.columns):
+                        self.places[column.key] = Place(
+                            "range", self.sheet_name[sheet.key], FIRST_ROW, col + 1 + offset,
+                            count=self.table_capacity[table.key])
+                    col += len(table.columns) + 1
 
+    def _place_items_sheets(self):
+        spec, plans, homes = self.spec, [], {}
+        for sheet in spec.sheets:
+            if sheet.kind == "items":
+                plan = ItemsPlan(sheet)
+                if sheet.axis not in homes:
+                    homes[sheet.axis] = plan
+                    plan.inputs = spec.item_parameters(sheet.axis)
+                plan.columns = list(sheet.columns)
+                plans.append(plan)
+        for rule in spec.rules:
+            if rule.items:
+                homes[rule.items].columns.append(rule)
+        for axis in spec.axes:
+            if axis.key not in homes and spec.item_parameters(axis.key):
+                raise ValueError(f"axis {axis.key!r} has inputs but no items sheet")
+        for plan in plans:
+            name = self.sheet_name[plan.sheet.key]
+            count = self.axis_sizes[plan.sheet.axis]
+            for col, item in enumerate(plan.inputs + plan.columns, start=1):
+                self.places[item.key] = Place("items", name, FIRST_ROW, col, count=count)
+        return plans
+
+    def _place_parameters_sheet(self):
+        spec, name = self.spec, self.sheet_name["parameters"]
+        rows, row = [], PARAMETER_TABLE_ROW + 1
+        scalar_parameters = spec.scalar_parameters()
+        for group, words in spec.groups.items():
+            members = [p for p in scalar_parameters if p.group == group]
+            if not members:
+                continue
+            rows.append(Row("group", row, words))
+            row += 1
+            for parameter in members:
+                rows.append(Row("parameter", row, parameter))
+                self.places[parameter.key] = Place("cell", name, row, 1)
+                row += 1
+        derived = [q for q in spec.scalars if not q.items]
+        if derived:
+            row += 1
+            rows.append(Row("heading", row, "derived"))
+            row += 1
+            for quantity in derived:
+                rows.append(Row("scalar", row, quantity))
+                self.places[quantity.key] = Place("cell", name, row, 1)
+                row += 1
+        row += 1
+        rows.append(Row("heading", row, "checks"))
+        row += 1
+        for parameter in spec.parameters:
+            rows.append(Row("bound", row, parameter))
+            row += 1
+        for rule in spec.rules:
+            rows.append(Row("rule", row, rule))
+            if not rule.items:
+                self.places[rule.key] = Place("cell", name, row, 1)
+            row += 1
+        rows.append(Row("valid", row, None))
+        self.places[GUARD] = Place("cell", name, row, 1)
+        self.places["input_status"] = Place("cell", name, 2, 1)
+        return rows
+
+    def _place_summary_sheet(self):
+        spec, name = self.spec, self.sheet_name["summary"]
+        rows, row = {}, 3
+        rows["key_data"] = row
+        row += len(spec_key_data(spec)) + 2 if spec_key_data(spec) else 0
+        rows["extremes"] = row
+        row += 1
+        for quantity in summary_series(spec):
+            for col, stat in enumerate(["max", "max_angle", "min", "min_angle"], start=3):
+                self.places[f"{quantity.key}_{stat}"] = Place("cell", name, row, col)
+            row += 1
+        row += 1
+        rows["results"] = row
+        row += 1
+        for quantity in spec.results:
+            if quantity.items:
+                raise ValueError(f"result {quantity.key!r}: per-item results go on items sheets")
+            self.places[quantity.key] = Place("cell", name, row, 3)
+            row += 1
+        return rows
+
+    def _place_scalar_sheets(self):
+        for sheet in self.spec.sheets:
+            if sheet.kind == "scalars":
+                name = self.sheet_name[sheet.key]
+                for index, quantity in enumerate(sheet.columns):
+                    if quantity.items:
+                        raise ValueError(f"{quantity.key!r}: per-item scalars go on items sheets")
+                    self.places[quantity.key] = Place("cell", name, SCALAR_FIRST_ROW + index, 1)
+
+    # ------------------------------------------------------------ helpers
     def last_row(self, grid):
         return self.locator.grid_rows[grid][1]
 
     def tables_on(self, sheet_key):
         return [t for t in self.spec.input_tables if t.sheet == sheet_key]
+
+    def define_all(self):
+        """A defined name for every placed key: p_<key> for inputs, q_<key> otherwise."""
+        for key in self.places:
+            self.defined_names[self.locator.name(key)] = "=" + self.locator.whole_range(key)
+
+
+def spec_key_data(spec):
+    return list(getattr(spec, "key_data", ()) or ())
+
+
+def summary_series(spec):
+    return [q for s in spec.sheets if s.kind == "series" for q in s.columns
+            if q.summary and not q.items]

@@ -1,31 +1,54 @@
 """Rows of named scalar results (key, value, unit, labels), and sheets made of them."""
-from xlsxwriter.utility import xl_rowcol_to_cell
+from crankbook.writer.layout import SCALAR_FIRST_ROW, label, unit_text
+from crankbook.writer.print_setup import landscape_page
+from crankbook.writer.series_sheet import cached
 
-from workbook.formulas import quote_sheet
-from workbook.writer.layout import label, unit_text
-from workbook.writer.series_sheet import cached
+
+def write_formula_cell(ws, row, col, quantity, layout, results, styles, sheet_name,
+                       item=None, value=None):
+    """The formula cell of a quantity (an array formula where the spec says so), with
+    its numpy value cached; a quantity without a formula is an editable decision cell."""
+    fmt = styles.number(quantity.unit, quantity.format,
+                        role="input" if quantity.formula is None else "output")
+    value = results[quantity.key] if value is None else value
+    if quantity.formula is None:
+        ws.write_number(row, col, float(value), fmt)
+        return
+    guard = quantity.guard if quantity.kind != "rule" else False
+    formula = layout.locator.scalar_formula(quantity.nodes, sheet_name, item=item,
+                                            axis=quantity.items, guard=guard)
+    if quantity.kind == "rule":
+        formula = "=" + rule_wrapper(layout, quantity, formula[1:])
+    elif guard is False:
+        formula = "=" + layout.locator.guarded(formula[1:], "iferror")
+    if quantity.array:
+        ws.write_array_formula(row, col, row, col, "{" + formula + "}", fmt, cached(value))
+    else:
+        ws.write_formula(row, col, formula, fmt, cached(value))
+
+
+def rule_wrapper(layout, rule, condition):
+    """1 when the inputs break the rule, also when the condition cannot be evaluated
+    (an unguarded quantity it reads is blank or an error)."""
+    spec = layout.spec
+    blanks = sorted({ref for ref in rule.references()
+                     if ref in spec.quantity and not spec.quantity[ref].is_series
+                     and not spec.quantity[ref].items and spec.quantity[ref].kind != "rule"})
+    body = f"IFERROR(IF({condition},1,0),1)"
+    if blanks:
+        tests = ",".join(f"ISNUMBER(q_{key})" for key in blanks)
+        body = f"IF(AND({tests}),{body},1)"
+    return body
 
 
 def write_scalar_rows(ws, row, quantities, layout, results, styles, sheet_name):
-    """Write one row per quantity from ``row``; return the next free row.
-
-    A quantity without a formula is a decision cell (e.g. for Excel's Solver): its
-    numpy value is written as an editable input.
-    """
+    """Write one row per quantity from ``row``; return the next free row."""
     for quantity in quantities:
         ws.write(row, 0, quantity.key, styles.key)
-        if quantity.formula is None:
-            ws.write_number(row, 1, float(results[quantity.key]),
-                            styles.number(quantity.unit, quantity.format, role="input"))
-        else:
-            ws.write_formula(row, 1, layout.locator.scalar_formula(quantity.formula),
-                             styles.number(quantity.unit, quantity.format),
-                             cached(results[quantity.key]))
+        write_formula_cell(ws, row, 1, quantity, layout, results, styles, sheet_name)
         ws.write(row, 2, unit_text(quantity.unit))
         ws.write(row, 3, quantity.zh, styles.text)
         ws.write(row, 4, quantity.en, styles.text)
-        layout.defined_names[f"q_{quantity.key}"] = \
-            "=" + quote_sheet(sheet_name) + "!" + xl_rowcol_to_cell(row, 1, True, True)
         row += 1
     return row
 
@@ -40,10 +63,10 @@ def write_scalar_sheet(book, sheet_spec, layout, results, styles):
     headers = [("键", "Key"), ("数值", "Value"), ("单位", "Unit"), ("说明", "Description (zh)"),
                ("Description", "Description (en)")]
     for col, pair in enumerate(headers):
-        ws.write(3, col, pair[0] if layout.lang == "zh" else pair[1], styles.header)
-    write_scalar_rows(ws, 4, sheet_spec.columns, layout, results, styles, name)
-    ws.freeze_panes(4, 0)
-    ws.set_paper(9)
-    ws.set_landscape()
-    ws.fit_to_pages(1, 0)
+        ws.write(SCALAR_FIRST_ROW - 1, col, pair[0] if layout.lang == "zh" else pair[1],
+                 styles.header)
+    write_scalar_rows(ws, SCALAR_FIRST_ROW, sheet_spec.columns, layout, results, styles, name)
+    ws.freeze_panes(SCALAR_FIRST_ROW, 0)
+    landscape_page(ws)
+    ws.repeat_rows(SCALAR_FIRST_ROW - 1)
     return ws

@@ -1,27 +1,36 @@
-"""A quantity sheet: crank-angle column, formula columns, input tables and a chart."""
+"""A quantity sheet: the grid column, formula columns (a block of columns for a
+per-item series), input tables and the sheet's charts."""
 import math
 
 from xlsxwriter.utility import xl_rowcol_to_cell
 
-from workbook.formulas import fill, quote_sheet
-from workbook.writer.charts import add_quantity_chart
-from workbook.writer.fast_sheet import FastWorksheet
-from workbook.writer.layout import FIRST_ROW, label, unit_text
+from crankbook.formulas import fill, quote_sheet
+from crankbook.writer.charts import add_chart
+from crankbook.writer.fast_sheet import FastWorksheet
+from crankbook.writer.layout import FIRST_ROW, label, unit_text
+from crankbook.writer.print_setup import landscape_report
 
 COLUMN_WIDTH = 15
+CHART_ROWS = 24          # rows a chart takes, stacked at the right of the table
 
 
 def cached(value):
-    """The cached result xlsxwriter stores: a number, or '' where numpy gives NaN."""
+    """The cached result stored with a formula: a number, or '' where numpy gives NaN
+    or ±inf (Excel repairs a file that caches an infinity)."""
     value = float(value)
-    return "" if math.isnan(value) else value
+    return value if math.isfinite(value) else ""
 
 
-def _headers(ws, col, item, unit, layout, styles, width=COLUMN_WIDTH):
-    ws.write(FIRST_ROW - 3, col, label(item, layout.lang), styles.header)
-    ws.write(FIRST_ROW - 2, col, label(item, layout.other), styles.header_other)
+def headers(ws, col, words, unit, layout, styles, width=COLUMN_WIDTH):
+    """Three header rows: the label in the sheet's language, in the other, the unit."""
+    ws.write(FIRST_ROW - 3, col, words[0], styles.header)
+    ws.write(FIRST_ROW - 2, col, words[1], styles.header_other)
     ws.write(FIRST_ROW - 1, col, f"[{unit_text(unit)}]", styles.unit)
     ws.set_column(col, col, width)
+
+
+def _words(item, layout, suffix=""):
+    return (label(item, layout.lang) + suffix, label(item, layout.other) + suffix)
 
 
 def write_series_sheet(book, sheet_spec, layout, results, styles):
@@ -33,74 +42,80 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
     ws.set_row(FIRST_ROW - 3, 42)
     ws.set_row(FIRST_ROW - 2, 42)
     ws.freeze_panes(FIRST_ROW, 1)
-    ws.set_paper(9)                       # A4, landscape, table and chart one page wide
-    ws.set_landscape()
-    ws.fit_to_pages(1, 0)
-    ws.repeat_rows(FIRST_ROW - 3, FIRST_ROW - 1)
 
-    # The grid column: values (or its formulas) on the grid's first sheet,
-    # references to them elsewhere.
     grid_q = spec.quantity[sheet_spec.grid]
     grid = results[grid_q.key]
-    _headers(ws, 0, grid_q, grid_q.unit, layout, styles, width=11)
+    headers(ws, 0, _words(grid_q, layout), grid_q.unit, layout, styles, width=11)
     angle_format = styles.number(grid_q.unit, grid_q.format)
     if layout.master[grid_q.key] == sheet_spec.key:
         if grid_q.formula is None:
             for i, angle in enumerate(grid):
                 ws.write_number(FIRST_ROW + i, 0, float(angle), angle_format)
         else:
-            template = locator.series_formula(grid_q.formula, name, grid_q.key)
+            template = locator.series_formula(grid_q.nodes, name, grid_q.key)
             for i, angle in enumerate(grid):
                 ws.write_formula(FIRST_ROW + i, 0, fill(template, FIRST_ROW + i, i),
                                  angle_format, cached(angle))
     else:
         master = quote_sheet(layout.sheet_name[layout.master[grid_q.key]])
         for i, angle in enumerate(grid):
-            row = FIRST_ROW + i + 1
-            ws.write_formula(FIRST_ROW + i, 0, f"={master}!$A{row}", angle_format, cached(angle))
+            ws.write_formula(FIRST_ROW + i, 0, f"={master}!$A{FIRST_ROW + i + 1}", angle_format,
+                             cached(angle))
 
-    for col, quantity in enumerate(sheet_spec.columns, start=1):
-        _headers(ws, col, quantity, quantity.unit, layout, styles)
-        template = locator.series_formula(quantity.formula, name, sheet_spec.grid)
-        first = locator.series_formula(quantity.first, name, sheet_spec.grid) \
-            if quantity.first else template
-        fmt = styles.number(quantity.unit, quantity.format)
-        values = results[quantity.key]
-        for i in range(len(grid)):
-            row = FIRST_ROW + i
-            ws.write_formula(row, col, fill(first if i == 0 else template, row, i), fmt,
-                             cached(values[i]))
+    for quantity in sheet_spec.columns:
+        _write_column(ws, quantity, layout, results, styles, name, len(grid))
 
+    last_col = max((p.col + p.count - 1 for k, p in layout.places.items()
+                    if p.sheet == name), default=0)
     for table in layout.tables_on(sheet_spec.key):
         _write_input_table(ws, table, layout, results, styles)
-
-    if not sheet_spec.chart:
-        return ws
-    x_range = f"{quote_sheet(name)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}"
-    chart = add_quantity_chart(book, sheet_spec, layout, x_range)
-    chart_col = len(sheet_spec.columns) + 2
-    for table in layout.tables_on(sheet_spec.key):
-        chart_col = max(chart_col, layout.table_start[table.key] + len(table.columns) + 1)
-    # Anchored below the header rows, which repeat on every printed page.
-    ws.insert_chart(FIRST_ROW, chart_col, chart, {"x_offset": 10})
+    chart_col = last_col + 2
+    for index, chart_spec in enumerate(sheet_spec.charts):
+        chart = add_chart(book, chart_spec, sheet_spec, layout, results)
+        # Anchored below the header rows, which repeat on every printed page.
+        ws.insert_chart(FIRST_ROW + index * CHART_ROWS, chart_col, chart, {"x_offset": 10})
+    landscape_report(ws, layout, sheet_spec, len(grid), last_col, chart_col)
     return ws
+
+
+def _write_column(ws, quantity, layout, results, styles, sheet_name, rows):
+    spec, locator = layout.spec, layout.locator
+    place = layout.places[quantity.key]
+    fmt = styles.number(quantity.unit, quantity.format)
+    values = results[quantity.key]
+    items = range(1, place.count + 1) if quantity.items else [None]
+    for offset, item in enumerate(items):
+        col = place.col + offset
+        if item is None:
+            words = _words(quantity, layout)
+        else:
+            axis = spec.axis[quantity.items]
+            words = (f"{label(quantity, layout.lang)} — {axis.label(layout.lang, item)}",
+                     f"{label(quantity, layout.other)} — {axis.label(layout.other, item)}")
+        headers(ws, col, words, quantity.unit, layout, styles)
+        template = locator.series_formula(quantity.nodes, sheet_name, quantity.grid, item=item,
+                                          axis=quantity.items, guard=quantity.guard)
+        first = locator.series_formula(quantity.first_nodes, sheet_name, quantity.grid,
+                                       item=item, axis=quantity.items, guard=quantity.guard) \
+            if quantity.first else template
+        column = values if item is None else values[:, offset]
+        for i in range(rows):
+            row = FIRST_ROW + i
+            ws.write_formula(row, col, fill(first if i == 0 else template, row, i), fmt,
+                             cached(column[i]))
 
 
 def _write_input_table(ws, table, layout, results, styles):
     """Editable input columns (e.g. a measured trace), named p_<key> over the capacity."""
-    name = layout.sheet_name[table.sheet]
     start = layout.table_start[table.key]
+    capacity = layout.table_capacity[table.key]
     for offset, column in enumerate(table.columns):
         col = start + offset
-        _headers(ws, col, column, column.unit, layout, styles)
+        headers(ws, col, _words(column, layout), column.unit, layout, styles)
         values = results.get(column.key, [])
         fmt = styles.number(column.unit, role="input")
-        for i in range(layout.table_capacity[table.key]):
+        for i in range(capacity):
             if i < len(values):
                 ws.write_number(FIRST_ROW + i, col, float(values[i]), fmt)
             else:
                 ws.write_blank(FIRST_ROW + i, col, None, fmt)
-        first = xl_rowcol_to_cell(FIRST_ROW, col, row_abs=True, col_abs=True)
-        last = xl_rowcol_to_cell(FIRST_ROW + layout.table_capacity[table.key] - 1, col,
-                                 row_abs=True, col_abs=True)
-        layout.defined_names[f"p_{column.key}"] = f"={quote_sheet(name)}!{first}:{last}"

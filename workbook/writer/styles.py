@@ -1,5 +1,5 @@
 """Cell formats shared by every sheet writer."""
-from workbook import units
+from crankbook import units
 
 FONT = "Arial"          # Arial falls back to a CJK font for Chinese in Excel and LibreOffice
 

@@ -1,58 +1,65 @@
-"""The Summary sheet: extremes of each quantity with their crank angles, and the
-cycle results (mean torque, indicated work and power)."""
-from xlsxwriter.utility import xl_rowcol_to_cell
-
-from workbook.formulas import quote_sheet
-from workbook.writer.layout import label, unit_text
-from workbook.writer.series_sheet import cached
+"""The Summary sheet: the key data, the extremes of each quantity with the crank
+angle where they first occur, and the cycle results — all formulas."""
+from crankbook.writer.layout import label, spec_key_data, summary_series, unit_text
+from crankbook.writer.print_setup import landscape_page
+from crankbook.writer.scalar_sheet import write_formula_cell
+from crankbook.writer.series_sheet import cached
 
 COLUMNS = [("量", "Quantity"), ("Quantity", "量"), ("单位", "Unit"), ("最大值", "Maximum"),
-           ("最大值处 α [°]", "α at maximum [°]"), ("最小值", "Minimum"),
-           ("最小值处 α [°]", "α at minimum [°]")]
+           ("最大值处", "at the maximum"), ("最小值", "Minimum"), ("最小值处", "at the minimum")]
 
 
-def write_summary_sheet(book, layout, results, styles):
-    spec, lang, locator = layout.spec, layout.lang, layout.locator
+def write_summary_sheet(book, layout, values, results, styles):
+    spec, lang = layout.spec, layout.lang
     name = layout.sheet_name["summary"]
     ws = book.add_worksheet(name)
-    sheet_ref = quote_sheet(name)
-
-    def put(row, col, key):
-        quantity = spec.quantity[key]
-        ws.write_formula(row, col, locator.scalar_formula(quantity.formula),
-                         styles.number(quantity.unit, quantity.format), cached(results[key]))
-        layout.defined_names[f"q_{key}"] = \
-            "=" + sheet_ref + "!" + xl_rowcol_to_cell(row, col, True, True)
-
+    rows = layout.summary_rows
     for col, width in enumerate([56, 44, 9, 14, 16, 14, 16]):
         ws.set_column(col, col, width)
     ws.write(0, 0, f"{label(spec, lang)} — {'汇总' if lang == 'zh' else 'Summary'}", styles.title)
     ws.write(1, 0, "所有数值均为公式 / every value is a formula", styles.subtitle)
-    row = 3
+
+    key_data = spec_key_data(spec)
+    if key_data:
+        row = rows["key_data"]
+        ws.merge_range(row, 0, row, 6, "主要数据 / Key data" if lang == "zh"
+                       else "Key data / 主要数据", styles.group)
+        for offset, key in enumerate(key_data, start=1):
+            item = spec.parameter.get(key) or spec.quantity.get(key)
+            ws.write(row + offset, 0, label(item, lang), styles.text)
+            ws.write(row + offset, 1, label(item, layout.other), styles.text)
+            ws.write(row + offset, 2, unit_text(item.unit))
+            value = values[key] if key in spec.parameter else results[key]
+            ws.write_formula(row + offset, 3, f"={layout.locator.name(key)}",
+                             styles.number(item.unit, getattr(item, "format", None)),
+                             cached(value))
+
+    row = rows["extremes"]
+    grid_unit = unit_text(spec.grid.unit)
     for col, pair in enumerate(COLUMNS):
-        ws.write(row, col, pair[0] if lang == "zh" else pair[1], styles.header)
-    row += 1
-    series = [q for s in spec.sheets for q in s.columns if q.summary]
-    for quantity in series:
+        text = pair[0] if lang == "zh" else pair[1]
+        if col in (4, 6):
+            text += f" [{grid_unit}]"
+        ws.write(row, col, text, styles.header)
+    for quantity in summary_series(spec):
+        row += 1
         ws.write(row, 0, label(quantity, lang), styles.text)
         ws.write(row, 1, label(quantity, layout.other), styles.text)
         ws.write(row, 2, unit_text(quantity.unit))
         for col, stat in enumerate(["max", "max_angle", "min", "min_angle"], start=3):
-            put(row, col, f"{quantity.key}_{stat}")
-        row += 1
+            key = f"{quantity.key}_{stat}"
+            write_formula_cell(ws, row, col, spec.quantity[key], layout, results, styles, name)
 
-    row += 1
-    ws.merge_range(row, 0, row, 6, "循环结果 / Cycle results" if lang == "zh"
-                   else "Cycle results / 循环结果", styles.group)
-    row += 1
+    row = rows["results"]
+    if spec.results:
+        ws.merge_range(row, 0, row, 6, "循环结果 / Cycle results" if lang == "zh"
+                       else "Cycle results / 循环结果", styles.group)
     for quantity in spec.results:
+        row += 1
         ws.write(row, 0, label(quantity, lang), styles.text)
         ws.write(row, 1, label(quantity, layout.other), styles.text)
         ws.write(row, 2, unit_text(quantity.unit))
-        put(row, 3, quantity.key)
-        row += 1
-    ws.freeze_panes(4, 1)
-    ws.set_paper(9)
-    ws.set_landscape()
-    ws.fit_to_pages(1, 0)
+        write_formula_cell(ws, row, 3, quantity, layout, results, styles, name)
+    ws.freeze_panes(rows["extremes"] + 1, 1)
+    landscape_page(ws)
     return ws

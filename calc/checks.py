@@ -1,0 +1,42 @@
+"""Input rules as functions: 1 where the inputs break the rule, else 0.
+
+Each is the calc half of a ``[[rule]]`` of a template, whose formula is the same
+condition in Excel (the workbook's input checks); a value that cannot be computed
+(NaN) counts as broken there and here.
+"""
+import numpy as np
+
+
+def _flag(condition):
+    return np.where(np.asarray(condition, dtype=bool), 1.0, 0.0)
+
+
+def rod_too_short(rod_length, crank_radius, offset):
+    """1 where l ≤ r + |e|: the rod cannot reach the pin axis at every crank angle."""
+    return _flag(np.asarray(rod_length) <= np.asarray(crank_radius) + np.abs(offset))
+
+
+def series_needs_centric(exact_kinematics, offset):
+    """1 where the thesis's series formulas are chosen for an offset mechanism."""
+    return _flag((np.asarray(exact_kinematics) == 0) & (np.asarray(offset) != 0))
+
+
+def rod_cg_off_rod(rod_cg_from_big_end, rod_length):
+    """1 where the rod's centre of gravity lies beyond its small end."""
+    return _flag(np.asarray(rod_cg_from_big_end) > rod_length)
+
+
+def trace_missing(pressure_source, trace_crank_angle):
+    """1 where the measured trace is chosen but has fewer than two points."""
+    points = np.count_nonzero(np.isfinite(np.asarray(trace_crank_angle, dtype=float)))
+    return _flag((np.asarray(pressure_source) == 1) & (points < 2))
+
+
+def no_crank(stroke, offset, extreme_angle):
+    """1 where H² − 2eH·tan(θ/2) ≤ 0: no crank gives this stroke, offset and K."""
+    return _flag(stroke ** 2 - 2 * offset * stroke * np.tan(extreme_angle / 2) <= 0)
+
+
+def not_positive(value):
+    """1 where a quantity that must be positive is not."""
+    return _flag(~(np.asarray(value, dtype=float) > 0))

@@ -1,0 +1,226 @@
+"""The Python API: compute a preset, read a workbook back, verify it.
+
+    >>> import crankbook
+    >>> r = crankbook.compute("thesis", speed=3000)
+    >>> r.series()["torque"].max()                      # N·m, on the 0–720° grid
+    >>> r.to_excel("output/thesis-3000.xlsx")
+    >>> crankbook.read("output/thesis-3000.xlsx").scalars["mean_torque"]
+
+Values are in sheet units (the units of the README's named-range tables); bad
+input raises the same one-line errors as the command line, as subclasses of
+crankbook.CrankbookError.
+"""
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from crankbook import params as parameters
+from crankbook.errors import BuildOptionError
+from crankbook.evaluate import axis_sizes, build_grids, evaluate
+
+
+@dataclass
+class Results:
+    """Every p_ value and q_ result of one workbook, in sheet units.
+
+    Attributes
+    ----------
+    spec : crankbook.spec.WorkbookSpec
+        The template the workbook follows.
+    template : str
+        Its name (``engine``, ``course_design``, …).
+    preset : dict
+        The preset's table (name, zh and en descriptions).
+    values : dict
+        Parameter key -> value (per-item parameters as lists, choices as indices).
+    results : dict
+        Quantity key -> value: float, or numpy array over a grid and/or items.
+    """
+    spec: object
+    template: str
+    preset: dict
+    values: dict
+    tables: dict
+    steps: dict
+    results: dict
+    axis_sizes: dict = field(default_factory=dict)
+
+    # ------------------------------------------------------------ views
+    @property
+    def parameters(self):
+        """Every p_ value: numbers, lists for per-item tables, words for choices."""
+        out = {}
+        for p in self.spec.parameters:
+            value = self.values[p.key]
+            if p.kind == "choice":
+                value = p.choices[int(value) - 1]
+            out[p.key] = list(value) if p.axis else value
+        return out
+
+    @property
+    def grids(self):
+        """The keys of the grids, the main grid (the workbook's crank angle) first."""
+        return [g.key for g in self.spec.grids]
+
+    @property
+    def scalars(self):
+        """Every q_ scalar as a pandas Series (per-item scalars as ``key[i]``)."""
+        data = {}
+        for q in self.spec.quantities():
+            if q.is_series or q.key not in self.results:
+                continue
+            value = self.results[q.key]
+            if q.items:
+                for i, v in enumerate(np.atleast_1d(value), start=1):
+                    data[f"{q.key}[{i}]"] = float(v)
+            else:
+                data[q.key] = float(value)
+        return pd.Series(data, dtype=float, name="value")
+
+    def series(self, grid=None):
+        """One row per grid point, indexed by the grid, one column per q_ series on it
+        (per-item series as ``key[i]``), in sheet units.
+
+        Parameters
+        ----------
+        grid : str, optional
+            A key of :attr:`grids`; the main grid when None.
+        """
+        grid = grid or self.spec.grid.key
+        if grid not in self.grids:
+            raise BuildOptionError(f"unknown grid {grid!r}; grids are {', '.join(self.grids)}")
+        index = pd.Index(np.asarray(self.results[grid], dtype=float), name=grid)
+        columns = {}
+        for q in self.spec.series():
+            if q.grid != grid or q.is_grid or q.key not in self.results:
+                continue
+            value = np.asarray(self.results[q.key], dtype=float)
+            if q.items:
+                for i in range(value.shape[1]):
+                    columns[f"{q.key}[{i + 1}]"] = value[:, i]
+            else:
+                columns[q.key] = value
+        return pd.DataFrame(columns, index=index)
+
+    def __getitem__(self, key):
+        if key in self.results:
+            return self.results[key]
+        if key in self.values:
+            return self.values[key]
+        raise KeyError(key)
+
+    def __repr__(self):
+        return (f"<crankbook.Results {self.template} (preset {self.preset.get('name')}): "
+                f"{len(self.spec.parameters)} parameters, {len(self.results)} quantities>")
+
+    def to_excel(self, path, lang="zh"):
+        """Write the formula-backed workbook the command line writes; return its path."""
+        from crankbook.writer.build import write_workbook
+        if lang not in ("zh", "en"):
+            raise BuildOptionError(f"--lang {lang!r}: choose zh or en")
+        return write_workbook(self, lang, path)
+
+
+def _trace_tables(spec, pressure):
+    from crankbook.pressure_file import read_trace, trace_from_columns
+    if isinstance(pressure, pd.DataFrame):
+        if pressure.shape[1] < 2:
+            raise BuildOptionError("pressure: a DataFrame needs two columns, crank angle [°] "
+                                   "and absolute pressure [MPa]")
+        angles, pressures = trace_from_columns("pressure DataFrame", pressure.iloc[:, 0],
+                                               pressure.iloc[:, 1], spec.cycle)
+    else:
+        angles, pressures = read_trace(pressure, spec.cycle)
+    return {"trace_crank_angle": angles, "trace_pressure": pressures}
+
+
+def compute(preset="thesis", *, group=None, pressure=None, step=None, **params):
+    """Compute every quantity of a preset's workbook with numpy.
+
+    Parameters
+    ----------
+    preset : str
+        A preset name (``crankbook presets``): thesis, course-design, inline-4, ….
+    group : int, optional
+        A class group of the preset's group table, applied before ``params``.
+    pressure : str, pathlib.Path or pandas.DataFrame, optional
+        A measured cylinder-pressure trace: a .csv/.xlsx file or a two-column
+        DataFrame (crank angle [°], absolute pressure [MPa]); sets
+        ``pressure_source`` to 1 unless ``params`` sets it.
+    step : float, optional
+        Step of the main grid [°] (default: the template's, 1°).
+    **params
+        Parameter key -> value in its sheet unit (as ``--set``): a number, a list
+        for a per-item parameter, a word for a choice.  Grid options other than the
+        main step (``cam_step``) are accepted here too.
+
+    Returns
+    -------
+    Results
+    """
+    spec, values, meta = parameters.load_preset(preset)
+    if group is not None:
+        values = parameters.apply_group(spec, values, meta, group)
+    steps = {"step": step} if step is not None else {}
+    for option in spec.grid_options():
+        if option != "step" and option in params:
+            steps[option] = params.pop(option)
+    values = parameters.apply_overrides(spec, values, params)
+    tables = {}
+    if pressure is not None:
+        tables = _trace_tables(spec, pressure)
+        if "pressure_source" not in params and "pressure_source" in spec.parameter:
+            values["pressure_source"] = 1.0
+    values = parameters.validate(spec, values, tables=tables)
+    return results_for(spec, meta, values, tables, steps)
+
+
+def results_for(spec, preset, values, tables=None, steps=None):
+    """Results of validated ``values`` (the pipeline after the inputs are settled)."""
+    tables, steps = tables or {}, dict(steps or {})
+    grids = build_grids(spec, steps)
+    return Results(spec=spec, template=preset["template"], preset=preset, values=values,
+                   tables=tables, steps=steps, results=evaluate(spec, values, tables, grids),
+                   axis_sizes=axis_sizes(spec, values))
+
+
+def read(path, recalculate=False):
+    """The p_ and q_ values of a workbook crankbook wrote, through its names.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+    recalculate : bool
+        Recalculate in LibreOffice first (what an Excel user changed but saved
+        without recalculating, or a file written by a script); otherwise the values
+        stored in the file are read.
+
+    Returns
+    -------
+    Results
+        ``results`` holds the workbook's values, not a recomputation.
+    """
+    from crankbook.workbook_reader import read_workbook
+    return read_workbook(Path(path), recalculate=recalculate)
+
+
+def verify(path, engine="libreoffice"):
+    """Recalculate a workbook in a spreadsheet engine and compare every q_ name with
+    numpy evaluated on the workbook's own inputs.
+
+    Parameters
+    ----------
+    engine : {'libreoffice', 'gnumeric'}
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per q_ name: ``name``, ``unit``, ``error`` (largest |engine − numpy|),
+        ``allowed`` (the tolerance), ``cached_error`` (largest |stored − engine|) and
+        ``ok``; its ``attrs`` hold ``status`` (the workbook's status text) and
+        ``valid`` (q_inputs_valid).
+    """
+    from crankbook.verification import verify_workbook
+    return verify_workbook(Path(path), engine=engine)

@@ -1,0 +1,162 @@
+"""Refuse a specification that cannot mean anything, naming its file and key.
+
+A spec author's mistakes (an unknown reference, a calc function that does not
+exist, a function Excel 2010 lacks, a rule that depends on what it guards, …)
+raise SpecError when the template is loaded, never later in a user's build.
+"""
+import inspect
+import re
+
+from crankbook import placeholders, units
+from crankbook.errors import SpecError
+from crankbook.placeholders import Ref, Special, Sum, TemplateSyntaxError
+
+# Functions newer than Excel 2010 or volatile: a workbook must open in Excel 2010,
+# LibreOffice, Gnumeric and WPS and recompute the same everywhere.
+FORBIDDEN = re.compile(r"\b(FILTER|SORT|SORTBY|UNIQUE|XLOOKUP|XMATCH|LET|LAMBDA|SEQUENCE|"
+                       r"IFS|SWITCH|CONCAT|TEXTJOIN|MAXIFS|MINIFS|RANDARRAY|OFFSET|INDIRECT|"
+                       r"NOW|TODAY|RAND|RANDBETWEEN|CELL|INFO)\s*\(")
+
+
+def check(spec):
+    """Raise SpecError for the first thing in ``spec`` that cannot be meant."""
+    _unique_keys(spec)
+    known = set(spec.parameter) | set(spec.table_column) | set(spec.quantity) | \
+        set(spec.constant)
+    homes = {s.grid for s in spec.sheets if s.kind == "series"}
+    for g in spec.grids:
+        if g.key not in homes:
+            raise SpecError(g.source, g.key, "grid is on no sheet")
+    for p in spec.parameters:
+        if p.axis and p.axis not in spec.axis:
+            raise SpecError(spec.file, p.key, f"unknown axis {p.axis!r}")
+        if p.axis and not isinstance(p.default, list):
+            raise SpecError(spec.file, p.key, "a per-item parameter's default is a list")
+        if not units.known(p.unit):
+            raise SpecError(spec.file, p.key, f"unit {p.unit!r} is not in units.toml")
+        if p.kind == "choice" and not p.choices:
+            raise SpecError(spec.file, p.key, "a choice parameter needs 'choices'")
+    for a in spec.axes:
+        if a.size_calc is None and not spec.item_parameters(a.key):
+            raise SpecError(spec.file, a.key, "an axis needs per-item parameters or a size_calc")
+    for q in spec.quantities():
+        _check_quantity(spec, q, known)
+    for s in spec.sheets:
+        for chart in s.charts:
+            for key in chart.y + ((chart.x,) if chart.x else ()):
+                q = spec.quantity.get(key)
+                if q is None or not q.is_series:
+                    raise SpecError(spec.file, s.key, f"chart lists {key!r}, not a series")
+            if chart.x is None and any(spec.quantity[k].grid != s.grid for k in chart.y):
+                raise SpecError(spec.file, s.key, "a chart over the sheet's grid lists a series "
+                                                  "of another grid")
+        if s.kind == "items" and s.axis not in spec.axis:
+            raise SpecError(spec.file, s.key, f"items sheet of unknown axis {s.axis!r}")
+    _rules_are_unguarded(spec)
+
+
+def _unique_keys(spec):
+    seen = set()
+    keys = [p.key for p in spec.parameters] + list(spec.table_column) + \
+        [c.key for c in spec.constants] + [q.key for q in spec.quantities()]
+    for key in keys:
+        if key in seen:
+            raise SpecError(spec.file, key, "defined twice")
+        seen.add(key)
+
+
+def _check_quantity(spec, q, known):
+    where = q.source or spec.file
+    if not units.known(q.unit):
+        raise SpecError(where, q.key, f"unit {q.unit!r} is not in units.toml")
+    if q.items and q.items not in spec.axis:
+        raise SpecError(where, q.key, f"unknown axis {q.items!r}")
+    if q.is_numeric_grid:
+        return
+    for text in (q.formula, q.first):
+        if text is None:
+            continue
+        bad = FORBIDDEN.search(text)
+        if bad:
+            raise SpecError(where, q.key, f"uses {bad.group(1)}, which Excel 2010 lacks or "
+                                          f"which is volatile")
+        try:
+            nodes = placeholders.parse(text)
+        except TemplateSyntaxError as error:
+            raise SpecError(where, q.key, str(error)) from None
+        _check_nodes(spec, q, nodes, known, where, sums=())
+    if q.formula is None and q.kind not in ("scalar",):
+        raise SpecError(where, q.key, "needs a formula")
+    if q.calc is None:
+        raise SpecError(where, q.key, "needs a calc function (one source of truth: the "
+                                      "formula and the calc function side by side)")
+    try:
+        arguments = q.calc_arguments()
+    except (ImportError, AttributeError):
+        raise SpecError(where, q.key, f"calc {q.calc!r} is not a function of "
+                                      f"crankbook.calc") from None
+    for name, source in arguments.items():
+        default = inspect.signature(q.calc_function()).parameters[name].default
+        if source not in known and default is inspect.Parameter.empty:
+            raise SpecError(where, q.key, f"calc {q.calc} argument {name!r} maps to unknown "
+                                          f"{source!r}")
+
+
+def _check_nodes(spec, q, nodes, known, where, sums):
+    for node in nodes:
+        if isinstance(node, Special):
+            if node.name == "item" and not q.items:
+                raise SpecError(where, q.key, "{item} outside a per-item quantity")
+            if node.name == "index" and not sums:
+                raise SpecError(where, q.key, "{index} outside {sum:…}")
+        elif isinstance(node, Sum):
+            if node.axis not in spec.axis:
+                raise SpecError(where, q.key, f"{{sum:{node.axis}…}}: unknown axis")
+            _check_nodes(spec, q, node.body, known, where, sums + (node.axis,))
+        elif isinstance(node, Ref):
+            if node.key not in known:
+                raise SpecError(where, q.key, f"refers to unknown {node.key!r}")
+            if node.unit:
+                source = spec.unit_of(node.key)
+                if not units.known(node.unit) or not units.convertible(source, node.unit):
+                    raise SpecError(where, q.key, f"{{{node.key}|{node.unit}}}: cannot convert "
+                                                  f"{source} to {node.unit}")
+            if node.part == "at":
+                target = spec.quantity.get(node.key)
+                grid = spec.quantity.get(target.grid) if target and target.is_series else None
+                if grid is None or grid.period is None:
+                    raise SpecError(where, q.key, f"{{{node.key}:at(…)}} needs a series on a "
+                                                  f"periodic grid")
+            if node.part in ("items", "item"):
+                owner = spec.parameter.get(node.key) or spec.quantity.get(node.key)
+                axis = getattr(owner, "axis", None) if node.key in spec.parameter \
+                    else getattr(owner, "items", None)
+                if not axis:
+                    raise SpecError(where, q.key, f"{{{node.key}:{node.part}}} needs a "
+                                                  f"per-item quantity")
+            if node.argument:
+                _check_nodes(spec, q, node.argument, known, where, sums)
+
+
+def _rules_are_unguarded(spec):
+    """A rule decides q_inputs_valid, so it may not depend on a guarded quantity
+    (that would be a circular reference in the workbook)."""
+    def guarded_dependency(key, seen):
+        q = spec.quantity.get(key)
+        if q is None or key in seen or q.is_grid:
+            return None
+        if q.guard:
+            return key
+        seen.add(key)
+        for ref in q.references():
+            found = guarded_dependency(ref, seen)
+            if found:
+                return found
+        return None
+    for rule in spec.rules:
+        for ref in rule.references():
+            found = guarded_dependency(ref, set())
+            if found:
+                raise SpecError(rule.source, rule.key,
+                                f"depends on {found!r}, which is guarded by the rules "
+                                f"themselves; mark it guard = false")

@@ -1,0 +1,328 @@
+"""Read templates/<name>.toml (with its included libraries) into a WorkbookSpec.
+
+Column sets are placed here: a member's key gets the placement's prefix (or its
+rename), ``crank_angle`` stands for the grid it is placed on, each alias for the
+key it names, and a reference to any member placed with the same prefix is that
+placed member.  Every mistake raises SpecError naming the file and the key.
+"""
+from functools import lru_cache
+
+from crankbook import placeholders, resources
+from crankbook.errors import SpecError, UnknownPresetError
+from crankbook.spec import (EXTREME_TOLERANCE, Axis, Chart, Constant, InputColumn, InputTable,
+                            Parameter, Quantity, Sheet, WorkbookSpec)
+from crankbook.spec_check import check
+
+LIST_SECTIONS = ("parameter", "axis", "constant", "input_table", "rule", "scalar", "grid",
+                 "sheet", "columnset", "result", "use")
+COMMON = "common"
+
+
+def template_names():
+    """Names of the workbook templates (not libraries, not data folders)."""
+    return [n for n in resources.names() if n != "units"]
+
+
+def _read(name, folder=None):
+    parts = (folder, f"{name}.toml") if folder else (f"{name}.toml",)
+    if not resources.is_safe_name(name) or not resources.exists(*parts):
+        where = f"templates/{folder}" if folder else "templates"
+        raise UnknownPresetError(f"workbook template {name!r} does not exist in {where}")
+    return dict(resources.read_toml(*parts))
+
+
+def _merged(name):
+    """The template's data with its libraries (include = [...]) merged in, each list
+    entry remembering the file it comes from."""
+    data = _read(name)
+    file = f"{name}.toml"
+    _stamp(data, file)
+    seen = set()
+    queue = list(data.pop("include", []))
+    while queue:
+        library = queue.pop(0)
+        if library in seen:
+            continue
+        seen.add(library)
+        shared = _read(library, COMMON)
+        queue += shared.pop("include", [])
+        _stamp(shared, f"{COMMON}/{library}.toml")
+        for key, value in shared.items():
+            if isinstance(value, list):
+                data[key] = data.get(key, []) + value
+            elif isinstance(value, dict):
+                data[key] = {**data.get(key, {}), **value}
+    return data, file
+
+
+def _stamp(data, file):
+    for section in LIST_SECTIONS:
+        data[section] = [dict(entry, _file=file) for entry in data.get(section, [])]
+
+
+def _need(entry, field, what):
+    if field not in entry:
+        raise SpecError(entry.get("_file", "?"), entry.get("key", what),
+                        f"{what} needs '{field}'")
+    return entry[field]
+
+
+def _quantity(entry, kind, **extra):
+    file = entry.get("_file", "?")
+    for field in ("key", "unit", "zh", "en"):
+        _need(entry, field, kind)
+    known = {"key", "unit", "zh", "en", "formula", "calc", "args", "summary", "format", "first",
+             "guard", "array", "items", "_file", "_prefix", "names", "discrete"}
+    unknown = set(entry) - known
+    if unknown:
+        raise SpecError(file, entry["key"], f"unknown field(s) {', '.join(sorted(unknown))}")
+    return Quantity(key=entry["key"], kind=kind, unit=entry["unit"], zh=entry["zh"],
+                    en=entry["en"], formula=entry.get("formula"), calc=entry.get("calc"),
+                    args=dict(entry.get("args", {})), summary=entry.get("summary", False),
+                    format=entry.get("format"), first=entry.get("first"),
+                    guard=entry.get("guard", True), array=entry.get("array", False),
+                    items=entry.get("items"), names=tuple(entry.get("names", ())),
+                    discrete=entry.get("discrete", False),
+                    source=file, **extra)
+
+
+def _grid(entry, period=None, step_option=None):
+    start, stop = entry.get("start"), entry.get("stop")
+    chart_range = tuple(entry.get("axis", (start, stop, 90.0)))
+    return Quantity(key=entry["key"], kind="series", unit=entry.get("unit", "deg"),
+                    zh=entry["zh"], en=entry["en"], formula=entry.get("formula"),
+                    calc=entry.get("calc"), args=dict(entry.get("args", {})),
+                    format=entry.get("format", "0.0"), grid=entry["key"], start=start,
+                    stop=stop, step=entry.get("step"), rows=entry.get("rows"),
+                    period=entry.get("period", period),
+                    step_option=entry.get("step_option", step_option),
+                    chart_range=chart_range, discrete=entry.get("discrete", False),
+                    source=entry.get("_file", "?"))
+
+
+def _parameter(entry):
+    file = entry.get("_file", "?")
+    known = {"key", "group", "unit", "zh", "en", "default", "kind", "min", "max", "min_open",
+             "max_open", "choices", "axis", "_file"}
+    unknown = set(entry) - known
+    if unknown:
+        raise SpecError(file, entry.get("key", "?"),
+                        f"unknown field(s) {', '.join(sorted(unknown))}")
+    for field in ("key", "group", "unit", "zh", "en", "default"):
+        _need(entry, field, "parameter")
+    values = {k: v for k, v in entry.items() if k != "_file"}
+    if "choices" in values:
+        values["choices"] = tuple(values["choices"])
+    return Parameter(**values)
+
+
+class _Placer:
+    """Places column-set members (as series on a grid, or as scalars), remembering
+    under each prefix which member became which key."""
+
+    def __init__(self, columnsets, inputs):
+        self.columnsets = columnsets
+        self.inputs = inputs      # parameters, table columns, constants: never renamed
+        self.placed = {}          # prefix -> {member key: placed key}
+        self.pending = []         # (entry, prefix, aliases, grid)
+
+    def place(self, use, grid, file):
+        name = _need(dict(use, _file=file), "columnset", "use")
+        if name not in self.columnsets:
+            raise SpecError(file, name, f"unknown column set; sets are "
+                                        f"{', '.join(sorted(self.columnsets))}")
+        members = self.columnsets[name]
+        by_key = {m["key"]: m for m in members}
+        prefix = use.get("prefix", "")
+        rename = use.get("rename", {})
+        chosen = use.get("columns") or [m["key"] for m in members]
+        entries = []
+        for member_key in chosen:
+            if member_key not in by_key:
+                raise SpecError(file, member_key, f"not a member of column set {name!r}")
+            member = dict(by_key[member_key])
+            placed_key = rename.get(member_key, prefix + member_key)
+            self.placed.setdefault(prefix, {})[member_key] = placed_key
+            entry = dict(member, key=placed_key,
+                         summary=member.get("summary", False) and use.get("summary", False))
+            entry.update(use.get("labels", {}).get(member_key, {}))
+            for field in ("format", "guard", "discrete"):
+                if field in use:
+                    entry[field] = use[field]
+            if use.get("items"):
+                entry["items"] = use["items"]
+            self.pending.append((entry, prefix, dict(use.get("aliases", {})), grid))
+            entries.append(entry)
+        return entries
+
+    def resolve(self):
+        """Rewrite the references of every placed member (after all placements)."""
+        for entry, prefix, aliases, grid in self.pending:
+            def rename(key, prefix=prefix, aliases=aliases, grid=grid):
+                if key in aliases:
+                    return aliases[key]
+                if key == "crank_angle" and grid:
+                    return grid
+                if key in self.inputs:
+                    return key
+                return self.placed.get(prefix, {}).get(key, key)
+            entry["formula"] = placeholders.rename(entry.get("formula"), rename)
+            entry["first"] = placeholders.rename(entry.get("first"), rename)
+            if entry.get("calc"):
+                entry["_rename"] = rename
+
+
+def _resolve_args(entry):
+    """Calc arguments of a placed member, mapped through its placement."""
+    rename = entry.pop("_rename", None)
+    if rename is None or not entry.get("calc"):
+        return entry
+    from crankbook.spec import calc_function
+    import inspect
+    try:
+        names = inspect.signature(calc_function(entry["calc"])).parameters
+    except (ImportError, AttributeError):
+        raise SpecError(entry.get("_file", "?"), entry["key"],
+                        f"calc {entry['calc']!r} is not a function of crankbook.calc") from None
+    args = dict(entry.get("args", {}))
+    entry["args"] = {name: rename(args.get(name, name)) for name in names}
+    return entry
+
+
+def _summary_quantities(grids, series):
+    """Max/min of each summary series and the first grid angle where it comes within
+    EXTREME_TOLERANCE of the peak |value| of its extreme."""
+    out = []
+    for q in series:
+        grid = grids[q.grid]
+        for stat, zh, en in (("max", "最大值", "maximum"), ("min", "最小值", "minimum")):
+            out.append(Quantity(
+                key=f"{q.key}_{stat}", kind="summary", unit=q.unit, zh=f"{q.zh} {zh}",
+                en=f"{q.en} {en}", formula=f"{stat.upper()}({{{q.key}}})",
+                calc=f"calc.cycle.{en}", args={"values": q.key}, source=q.source))
+        peak = f"MAX({{{q.key}_max}},-{{{q.key}_min}})"
+        for stat, zh, en, test in (("max", "最大值", "maximum", ">="), ("min", "最小值", "minimum", "<=")):
+            sign = "-" if stat == "max" else "+"
+            out.append(Quantity(
+                key=f"{q.key}_{stat}_angle", kind="summary", unit=grid.unit,
+                zh=f"{q.zh} {zh}处{grid.zh.split()[0]}", en=f"{grid.en.split(' (')[0]} of {q.en} {en}",
+                formula=(f"INDEX({{{q.grid}}},MATCH(1,ISNUMBER({{{q.key}}})*({{{q.key}}}{test}"
+                         f"{{{q.key}_{stat}}}{sign}{EXTREME_TOLERANCE!r}*{peak}),0))"),
+                calc=f"calc.cycle.angle_of_{en}", args={"crank_angle": q.grid, "values": q.key},
+                array=True, discrete=True, source=q.source))
+    return out
+
+
+def _chart(entry, sheet_entry, file):
+    if isinstance(entry, (list, tuple)):
+        entry = {"y": list(entry)}
+    known = {"y", "x", "title_zh", "title_en", "axis_zh", "axis_en", "unit", "x_axis_zh",
+             "x_axis_en", "x_unit", "equal_axes", "type", "mean_line"}
+    unknown = set(entry) - known
+    if unknown:
+        raise SpecError(file, sheet_entry["key"], f"chart: unknown field(s) "
+                                                  f"{', '.join(sorted(unknown))}")
+    return Chart(y=tuple(entry["y"]), x=entry.get("x"),
+                 title_zh=entry.get("title_zh", sheet_entry.get("title_zh", "")),
+                 title_en=entry.get("title_en", sheet_entry.get("title_en", "")),
+                 axis_zh=entry.get("axis_zh", sheet_entry.get("axis_zh", "")),
+                 axis_en=entry.get("axis_en", sheet_entry.get("axis_en", "")),
+                 unit=entry.get("unit", sheet_entry.get("unit", "-")),
+                 x_axis_zh=entry.get("x_axis_zh", ""), x_axis_en=entry.get("x_axis_en", ""),
+                 x_unit=entry.get("x_unit"), equal_axes=entry.get("equal_axes", False),
+                 type=entry.get("type", "scatter"), mean_line=entry.get("mean_line"))
+
+
+@lru_cache(maxsize=None)
+def load(name):
+    """The workbook specification templates/<name>.toml (cached; read-only)."""
+    data, file = _merged(name)
+    head = data.get("workbook")
+    if head is None:
+        raise SpecError(file, "workbook", "a template needs a [workbook] table")
+    cycle = head.get("cycle")
+    start = head.get("grid_start", 0.0)
+    stop = head.get("grid_stop", start + cycle if cycle else None)
+    main = _grid({"key": head["grid"], "zh": "曲轴转角 α", "en": "Crank angle α",
+                  "start": start, "stop": stop, "step": head["grid_step"],
+                  "axis": (start, stop, 90.0), "_file": file, **head.get("grid_labels", {})},
+                 period=cycle, step_option="step")
+    grids = [main] + [_grid(g) for g in data["grid"]]
+    parameters = [_parameter(p) for p in data["parameter"]]
+    axes = [Axis(key=a["key"], zh=a["zh"], en=a["en"], label_zh=a.get("label_zh", a["zh"]),
+                 label_en=a.get("label_en", a["en"]), size_calc=a.get("size_calc"),
+                 size_args=dict(a.get("size_args", {})), max=a.get("max", 64))
+            for a in data["axis"]]
+    constants = [Constant(key=c["key"], unit=c["unit"], value=float(c["value"]),
+                          zh=c.get("zh", ""), en=c.get("en", "")) for c in data["constant"]]
+    if cycle is not None:
+        constants.append(Constant(key="cycle", unit=main.unit, value=float(cycle),
+                                  zh="工作循环曲轴转角", en="crank angle of one working cycle"))
+    tables = [InputTable(key=t["key"], sheet=t["sheet"], capacity=t["capacity"],
+                         columns=tuple(InputColumn(**c) for c in t["column"]))
+              for t in data["input_table"]]
+    columnsets = {c["key"]: [dict(m, _file=c["_file"]) for m in c["column"]]
+                  for c in data["columnset"]}
+    inputs = {p["key"] for p in data["parameter"]} | {c["key"] for c in data["constant"]} | \
+        {c["key"] for t in data["input_table"] for c in t["column"]} | ({"cycle"} if cycle else set())
+    placer = _Placer(columnsets, inputs)
+
+    # derived scalars (Parameters sheet): their own entries and placed column sets
+    scalar_entries = []
+    for use in data["use"]:
+        scalar_entries += placer.place(use, None, use["_file"])
+    scalar_entries += [dict(s) for s in data["scalar"]]
+
+    sheet_entries = []
+    for s in data["sheet"]:
+        kind = s.get("kind", "series")
+        grid = s.get("grid", main.key) if kind == "series" else None
+        entries = []
+        for c in s.get("column", []) + s.get("scalar", []):
+            if "columnset" in c:          # one member of a set, placed here in order
+                member = c.get("member") or c.get("key")
+                own = ("member", "key", "zh", "en", "summary", "format")
+                use = {k: v for k, v in c.items() if k not in own}
+                use["columns"] = [member]
+                use["labels"] = {member: {k: c[k] for k in own[2:] if k in c}}
+                if "key" in c and "member" in c:
+                    use["rename"] = {member: c["key"]}
+                entries += placer.place(use, grid, s["_file"])
+            else:
+                entries.append(dict(c, _file=s["_file"]))
+        for use in s.get("use", []):
+            entries += placer.place(use, grid, s["_file"])
+        if kind == "items":
+            for e in entries:
+                e.setdefault("items", _need(s, "axis", "items sheet"))
+        sheet_entries.append((s, kind, grid, entries))
+    placer.resolve()
+
+    sheets = []
+    for s, kind, grid, entries in sheet_entries:
+        entries = [_resolve_args(e) for e in entries]
+        if kind == "series":
+            columns = tuple(_quantity(e, "series", sheet=s["key"], grid=grid) for e in entries)
+        else:
+            columns = tuple(_quantity(e, "scalar", sheet=s["key"]) for e in entries)
+        charts = [_chart(s["chart"], s, s["_file"])] if s.get("chart") else []
+        charts += [_chart(c, s, s["_file"]) for c in s.get("charts", [])]
+        sheets.append(Sheet(key=s["key"], zh=s["zh"], en=s["en"],
+                            title_zh=s.get("title_zh", s["zh"]), title_en=s.get("title_en", s["en"]),
+                            kind=kind, columns=columns, charts=tuple(charts), grid=grid,
+                            axis=s.get("axis"), print_step=s.get("print_step")))
+    scalars = [_quantity(_resolve_args(e), "scalar") for e in scalar_entries]
+    results = [_quantity(r, "result") for r in data["result"]]
+    rules = [_quantity(dict(r, key=f"check_{r['key']}", unit=r.get("unit", "-"), guard=False),
+                       "rule") for r in data["rule"]]
+    by_grid = {g.key: g for g in grids}
+    summary_series = [c for s in sheets if s.kind == "series" for c in s.columns
+                      if c.summary and not c.items]
+    spec = WorkbookSpec(
+        key=head["key"], file=file, zh=head["zh"], en=head["en"], grid=main, grids=grids,
+        groups=data.get("groups", {}), parameters=parameters, axes=axes, constants=constants,
+        input_tables=tables, rules=rules, scalars=scalars, sheets=sheets, results=results,
+        summary=_summary_quantities(by_grid, summary_series),
+        highlights=tuple(head.get("highlights", ())))
+    check(spec)
+    return spec

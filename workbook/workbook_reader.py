@@ -1,0 +1,302 @@
+"""Read a workbook crankbook wrote back into a Results, through its defined names.
+
+Every name's reference is checked against the shape the template gives it before
+a cell is touched (no whole rows, columns or sheets, no other files, no missing
+sheets), so a damaged or hostile file costs one clear error, not the machine.
+"""
+import json
+import re
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from crankbook import recalc
+from crankbook.errors import CrankbookError, WorkbookReadError
+from crankbook.evaluate import MAX_ROWS
+from crankbook.safe_read import Unreadable, open_untrusted
+from crankbook.spec_loader import load as load_spec, template_names
+from crankbook.writer.build import PROPERTY_PRESET, PROPERTY_STEPS, PROPERTY_TEMPLATE
+
+CELL_REF = re.compile(r"\$?([A-Z]{1,3})\$?([0-9]{1,7})\Z")
+MAX_NAME_CELLS = (MAX_ROWS + 1) * 64
+MAX_SHEET_ROWS, MAX_SHEET_COLS = 1_048_576, 16_384
+
+
+@dataclass(frozen=True)
+class Range:
+    sheet: str
+    min_row: int
+    min_col: int
+    max_row: int
+    max_col: int
+
+    @property
+    def rows(self):
+        return self.max_row - self.min_row + 1
+
+    @property
+    def cols(self):
+        return self.max_col - self.min_col + 1
+
+
+def _column_number(letters):
+    number = 0
+    for char in letters:
+        number = number * 26 + ord(char) - 64
+    return number
+
+
+def _cell(text):
+    match = CELL_REF.match(text)
+    if not match:
+        return None
+    col, row = _column_number(match.group(1)), int(match.group(2))
+    if not (1 <= row <= MAX_SHEET_ROWS and 1 <= col <= MAX_SHEET_COLS):
+        return None
+    return row, col
+
+
+def parse_reference(name, text, sheets):
+    """The Range of a defined name's text ('Sheet'!$A$1:$B$9), or WorkbookReadError
+    naming the name and what is wrong with it."""
+    text = (text or "").strip().lstrip("=")
+    if text.startswith("'"):
+        end = 1
+        while True:
+            end = text.find("'", end)
+            if end == -1:
+                raise WorkbookReadError(f"name {name}: unterminated quote in its reference")
+            if text[end + 1:end + 2] == "'":
+                end += 2
+                continue
+            break
+        sheet, rest = text[1:end].replace("''", "'"), text[end + 1:]
+    else:
+        sheet, _, rest = text.partition("!")
+        rest = "!" + rest if rest else ""
+    if not rest.startswith("!"):
+        raise WorkbookReadError(f"name {name}: its reference {text[:60]!r} names no sheet")
+    if "[" in sheet or "]" in sheet:
+        raise WorkbookReadError(f"name {name}: refers to another file")
+    if sheet not in sheets:
+        raise WorkbookReadError(f"name {name}: refers to sheet {sheet!r}, which the workbook "
+                                f"does not have")
+    first, _, last = rest[1:].partition(":")
+    start, stop = _cell(first), _cell(last or first)
+    if start is None or stop is None:
+        raise WorkbookReadError(f"name {name}: {rest[1:60]!r} is not a cell or a block of "
+                                f"cells (whole rows, columns and sheets are refused)")
+    (r0, c0), (r1, c1) = start, stop
+    if r1 < r0 or c1 < c0:
+        raise WorkbookReadError(f"name {name}: reversed range {rest[1:60]!r}")
+    found = Range(sheet, r0, c0, r1, c1)
+    if found.rows * found.cols > MAX_NAME_CELLS:
+        raise WorkbookReadError(f"name {name}: {found.rows * found.cols} cells, more than any "
+                                f"crankbook workbook has")
+    return found
+
+
+def defined_ranges(book, prefixes=("p_", "q_")):
+    """name -> Range for every defined name with a given prefix."""
+    sheets = set(book.sheetnames)
+    out = {}
+    for name, defined in book.defined_names.items():
+        if name.startswith(prefixes):
+            out[name] = parse_reference(name, defined.attr_text, sheets)
+    return out
+
+
+def cells(book, found):
+    """The cell values of a Range, row by row."""
+    ws = book[found.sheet]
+    if not hasattr(ws, "iter_rows"):
+        raise WorkbookReadError(f"sheet {found.sheet!r} is a chart sheet, not cells")
+    return [value for row in ws.iter_rows(min_row=found.min_row, max_row=found.max_row,
+                                          min_col=found.min_col, max_col=found.max_col,
+                                          values_only=True) for value in row]
+
+
+def open_book(path, data_only=True):
+    """An openpyxl workbook of a checked file, or WorkbookReadError with the reason."""
+    path = Path(path)
+    if not path.is_file():
+        raise WorkbookReadError(f"{path}: no such file")
+    try:
+        return open_untrusted(path, data_only=data_only)
+    except Unreadable as reason:
+        raise WorkbookReadError(f"{path}: {reason}") from None
+
+
+def template_of(book, ranges):
+    """The template that wrote the workbook: its document property, else the one
+    template whose parameters are all among the file's p_ names."""
+    recorded = _property(book, PROPERTY_TEMPLATE)
+    if recorded in template_names():
+        return recorded
+    keys = {n[2:] for n in ranges if n.startswith("p_")}
+    for name in template_names():
+        try:
+            if {p.key for p in load_spec(name).parameters} <= keys:
+                return name
+        except CrankbookError:
+            continue
+    raise WorkbookReadError("the workbook has no p_ names of any crankbook template; was it "
+                            "written by crankbook?")
+
+
+def _property(book, name, default=None):
+    for prop in getattr(book, "custom_doc_props", None) or ():
+        if prop.name == name:
+            return prop.value
+    return default
+
+
+def _number(value):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    return float(value)
+
+
+def read_inputs(book, spec, ranges, path):
+    """(values, tables, grids) as stored in the workbook."""
+    values = {}
+    for p in spec.parameters:
+        name = f"p_{p.key}"
+        if name not in ranges:
+            raise WorkbookReadError(f"{path}: the defined name {name} is missing")
+        found = ranges[name]
+        if p.axis:
+            if found.cols != 1 or found.rows > spec.axis[p.axis].max:
+                raise WorkbookReadError(f"{path}: name {name} is not a column of at most "
+                                        f"{spec.axis[p.axis].max} cells")
+            raw = cells(book, found)
+            numbers = [_number(v) for v in raw]
+            if any(v is None for v in numbers):
+                raise WorkbookReadError(f"{path}: {name} holds {raw!r}, not numbers")
+            values[p.key] = numbers
+            continue
+        if found.rows * found.cols != 1:
+            raise WorkbookReadError(f"{path}: name {name} is not a single cell")
+        raw = cells(book, found)[0]
+        if p.kind == "choice":
+            if raw not in p.choices:
+                raise WorkbookReadError(f"{path}: {name} holds {raw!r}, not one of "
+                                        f"{', '.join(p.choices)}")
+            values[p.key] = float(p.choices.index(raw) + 1)
+        else:
+            number = _number(raw)
+            if number is None:
+                raise WorkbookReadError(f"{path}: parameter {name} holds {raw!r}, not a number")
+            values[p.key] = number
+    tables = {}
+    for key in spec.table_column:
+        found = ranges.get(f"p_{key}")
+        if found is None:
+            raise WorkbookReadError(f"{path}: the defined name p_{key} is missing")
+        if found.cols != 1 or found.rows > 200_000:
+            raise WorkbookReadError(f"{path}: name p_{key} is not one column of a trace")
+        column = [_number(v) for v in cells(book, found)]
+        tables[key] = np.array([v for v in column if v is not None], dtype=float)
+    grids = {}
+    for grid in spec.grids:
+        if not grid.is_numeric_grid:
+            continue
+        found = ranges.get(f"q_{grid.key}")
+        if found is None or found.cols != 1 or found.rows > MAX_ROWS + 1:
+            raise WorkbookReadError(f"{path}: the grid q_{grid.key} is missing or not one column")
+        column = np.array([_number(v) if _number(v) is not None else np.nan
+                           for v in cells(book, found)], dtype=float)
+        if column.size < 2 or np.isnan(column).any():
+            raise WorkbookReadError(f"{path}: the grid q_{grid.key} is not numeric")
+        grids[grid.key] = column
+    return values, tables, grids
+
+
+def expected_shape(spec, key, grid_rows, sizes):
+    """The (rows, cols) a q_ name of ``key`` must have."""
+    q = spec.quantity[key]
+    cols = sizes.get(q.items, 1) if q.items else 1
+    if q.is_series:
+        return grid_rows[q.grid], cols
+    return (cols, 1) if q.items else (1, 1)
+
+
+def read_results(book, spec, ranges, path, sizes, grid_rows):
+    """q_<key> -> values as stored, shaped as the template says (a mismatch is an error)."""
+    out = {}
+    for q in spec.quantities():
+        name = f"q_{q.key}"
+        found = ranges.get(name)
+        if found is None:
+            continue
+        rows, cols = expected_shape(spec, q.key, grid_rows, sizes)
+        if (found.rows, found.cols) != (rows, cols):
+            raise WorkbookReadError(f"{path}: name {name} covers {found.rows}×{found.cols} cells; "
+                                    f"the {spec.key} template gives it {rows}×{cols}")
+        out[name] = cells(book, found)
+    return out
+
+
+def grid_rows_of(spec, ranges, grids):
+    rows = {key: len(values) for key, values in grids.items()}
+    for grid in spec.grids:
+        if grid.key not in rows:
+            found = ranges.get(f"q_{grid.key}")
+            if found is None or found.cols != 1 or found.rows > MAX_ROWS + 1:
+                raise WorkbookReadError(f"the grid q_{grid.key} is missing or not one column")
+            rows[grid.key] = found.rows
+    return rows
+
+
+def load_named(path):
+    """(book, spec, template, ranges, values, tables, grids, sizes, grid rows)."""
+    from crankbook.evaluate import axis_sizes
+    book = open_book(path)
+    ranges = defined_ranges(book)
+    template = template_of(book, ranges)
+    spec = load_spec(template)
+    values, tables, grids = read_inputs(book, spec, ranges, path)
+    try:
+        sizes = axis_sizes(spec, values)
+    except CrankbookError as error:
+        raise WorkbookReadError(f"{path}: {error}") from None
+    return book, spec, template, ranges, values, tables, grids, sizes, grid_rows_of(
+        spec, ranges, grids)
+
+
+def read_workbook(path, recalculate=False):
+    """Results holding the workbook's own values (see crankbook.read)."""
+    from crankbook.api import Results
+    from crankbook.compare import as_array
+    if recalculate:
+        with tempfile.TemporaryDirectory(prefix="crankbook-read-") as tmp:
+            converted = recalc.convert([path], tmp)[0]
+            return _results_of(converted, path, Results, as_array)
+    return _results_of(path, path, Results, as_array)
+
+
+def _results_of(path, shown, Results, as_array):
+    book, spec, template, ranges, values, tables, grids, sizes, grid_rows = load_named(path)
+    stored = read_results(book, spec, ranges, shown, sizes, grid_rows)
+    results = {}
+    for q in spec.quantities():
+        raw = stored.get(f"q_{q.key}")
+        if raw is None:
+            continue
+        array = as_array(raw)
+        rows, cols = expected_shape(spec, q.key, grid_rows, sizes)
+        if q.is_series:
+            results[q.key] = array.reshape(rows, cols) if q.items else array
+        elif q.items:
+            results[q.key] = array
+        else:
+            results[q.key] = float(array[0])
+    for key, value in grids.items():
+        results[key] = value
+    steps = json.loads(_property(book, PROPERTY_STEPS, "{}") or "{}")
+    preset = {"name": _property(book, PROPERTY_PRESET, "?"), "zh": "", "en": "",
+              "template": template}
+    return Results(spec=spec, template=template, preset=preset, values=values, tables=tables,
+                   steps=steps, results=results, axis_sizes=sizes)

@@ -1,0 +1,20 @@
+"""Page setup shared by the sheet writers: A4 landscape, one page wide, headers
+repeated on every page."""
+from crankbook.writer.layout import FIRST_ROW
+
+A4 = 9
+
+
+def landscape_report(ws, layout, sheet_spec, rows, last_col, chart_col):
+    ws.set_paper(A4)
+    ws.set_landscape()
+    ws.fit_to_pages(1, 0)
+    ws.repeat_rows(FIRST_ROW - 3, FIRST_ROW - 1)
+    ws.repeat_columns(0, 0)
+
+
+def landscape_page(ws):
+    """A4 landscape, one page wide (tables of a few dozen rows)."""
+    ws.set_paper(A4)
+    ws.set_landscape()
+    ws.fit_to_pages(1, 0)
