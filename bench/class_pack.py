@@ -15,7 +15,6 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
 
 
 def run(*args):
@@ -32,7 +31,11 @@ def main():
     import openpyxl
 
     from crankbook.assignment import template
-    from crankbook.reader import named_values, open_workbook
+    from crankbook.workbook_reader import cells as read_cells, defined_ranges, open_book
+
+    def named_values(path):
+        book = open_book(path)
+        return {name: read_cells(book, found) for name, found in defined_ranges(book).items()}
 
     items = [i.key for i in template.load("course-design").items]
     with tempfile.TemporaryDirectory() as tmp:
@@ -42,14 +45,14 @@ def main():
         assign = run("assign", "--roster", tmp / "roster.csv", "--seed", "3", "-o", tmp / "class")
         (tmp / "returned").mkdir()
         for sid in ids:                                   # the returned, filled-in workbooks
-            key = named_values(open_workbook(tmp / "class" / "keys" / f"{sid}.xlsx"))
+            key = named_values((tmp / "class" / "keys" / f"{sid}.xlsx"))
             book = openpyxl.load_workbook(tmp / "class" / "students" / f"{sid}.xlsx")
             for item in items:
                 sheet, ref = next(iter(book.defined_names[f"a_{item}"].destinations))
                 block = book[sheet][ref.replace("$", "")]
                 cells = [c for row in block for c in row] if isinstance(block, tuple) else [block]
                 values = key[f"q_{item}"]
-                for cell, value in zip(cells, values if isinstance(values, list) else [values]):
+                for cell, value in zip(cells, values):
                     cell.value = value
             book.save(tmp / "returned" / f"{sid}.xlsx")
         grade = run("grade", tmp / "class", tmp / "returned", "-o", tmp / "results")

@@ -1,26 +1,71 @@
-"""Shared fixtures.  LibreOffice tests fail, never skip, when soffice is missing: the
-cross-checks are the point of the suite, and ./dev test installs LibreOffice."""
+"""Shared fixtures.  The spreadsheet-engine tests fail, never skip, when LibreOffice
+or Gnumeric is missing: the cross-checks are the point of the suite, and ./dev test
+installs both."""
 import subprocess
 import sys
 from pathlib import Path
 
+import openpyxl
 import pytest
 
 from crankbook.recalc import find_soffice, find_ssconvert
+from crankbook.workbook_reader import cells, defined_ranges, open_book
 
 ROOT = Path(__file__).resolve().parent.parent
 
 
-@pytest.fixture(scope="session")
-def soffice():
-    path = find_soffice()
+def _engine(find, what, package):
+    path = find()
     if path is None:
-        pytest.fail("LibreOffice (soffice) is not installed: run ./dev test, or "
-                    "apt-get install libreoffice-calc-nogui")
+        pytest.fail(f"{what} is not installed: run ./dev test, or apt-get install {package}")
     return path
 
 
-def run_cli(*args, cwd=None):
-    """Run ``python -m workbook`` as a user would; returns the CompletedProcess."""
+@pytest.fixture(scope="session")
+def soffice():
+    return _engine(find_soffice, "LibreOffice (soffice)", "libreoffice-calc-nogui")
+
+
+@pytest.fixture(scope="session")
+def ssconvert():
+    return _engine(find_ssconvert, "Gnumeric (ssconvert)", "gnumeric")
+
+
+def run_cli(*args, cwd=None, timeout=600, stdin=None):
+    """Run ``python -m crankbook`` as a user would; returns the CompletedProcess."""
     return subprocess.run([sys.executable, "-m", "crankbook", *map(str, args)],
-                          capture_output=True, text=True, cwd=cwd or ROOT, timeout=600)
+                          capture_output=True, text=True, cwd=cwd or ROOT, timeout=timeout,
+                          input=stdin)
+
+
+def named(path, prefixes=("p_", "q_")):
+    """name -> value (one cell) or list of values, of a workbook's defined names."""
+    book = open_book(path)
+    out = {}
+    for name, found in defined_ranges(book, prefixes).items():
+        values = cells(book, found)
+        out[name] = values[0] if found.rows * found.cols == 1 else values
+    return out
+
+
+def edit_cells(source, target, edits, tables=None):
+    """Save ``source`` as ``target`` with input cells changed as a user would type them:
+    ``edits`` key -> value (a list for a per-item parameter), ``tables`` key -> column."""
+    book = openpyxl.load_workbook(source)
+    for key, value in {**edits, **(tables or {})}.items():
+        sheet, ref = next(iter(book.defined_names[f"p_{key}"].destinations))
+        targets = [c for row in book[sheet][ref.replace("$", "")] for c in row] \
+            if ":" in ref else [book[sheet][ref.replace("$", "")]]
+        column = value if isinstance(value, (list, tuple)) or hasattr(value, "__len__") \
+            and not isinstance(value, str) else [value]
+        for cell, new in zip(targets, list(column) + [None] * len(targets)):
+            cell.value = None if new is None else (new if isinstance(new, str) else float(new))
+    book.save(target)
+
+
+@pytest.fixture(scope="session")
+def checked(soffice, ssconvert, tmp_path_factory):
+    """Every workbook of tests/cross_check.py, built and recalculated in both engines."""
+    from tests.cross_check import build_all, recalculate_all
+    tmp = tmp_path_factory.mktemp("cross-check")
+    return recalculate_all(tmp, build_all(tmp))

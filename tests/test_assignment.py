@@ -15,7 +15,7 @@ from crankbook.calc import mechanism
 from tests.conftest import run_cli
 from crankbook import recalc
 from crankbook.assignment import template as templates
-from crankbook.reader import named_values, open_workbook
+from tests.conftest import named
 
 ROSTER = [f"s{n:02d}" for n in range(1, 13)]
 ASSIGNMENT = templates.load("course-design")
@@ -38,7 +38,7 @@ def pack(tmp_path_factory):
 
 def key_values(pack, sid):
     """The answer key's values for every item, read from the key workbook's q_ names."""
-    names = named_values(open_workbook(pack / "keys" / f"{sid}.xlsx"))
+    names = named(pack / "keys" / f"{sid}.xlsx")
     return {item.key: names[f"q_{item.key}"] for item in ASSIGNMENT.items}
 
 
@@ -247,7 +247,7 @@ def test_variants_are_distinct_valid_and_printable(pack):
     for row in rows:
         assert float(row["p_stroke"]) % 10 == 0 and float(row["p_offset"]).is_integer()
         assert round(float(row["p_time_ratio"]), 2) == float(row["p_time_ratio"])
-        names = named_values(open_workbook(pack / "keys" / f"{row['student_id']}.xlsx"))
+        names = named(pack / "keys" / f"{row['student_id']}.xlsx")
         assert names["q_min_transmission_angle"] >= 45.0
         raw = np.sort(np.asarray(names["q_raw_crank_angle"]) % 360)
         assert np.diff(np.concatenate([raw, [raw[0] + 360]])).min() >= 4.0
@@ -316,7 +316,7 @@ def test_second_assignment_on_the_engine_workbook(tmp_path):
     write_roster(roster, ["e1", "e2"])
     assert run_cli("assign", "--preset", "thesis", "--roster", roster, "-o",
                    tmp_path / "eng").returncode == 0
-    names = named_values(open_workbook(tmp_path / "eng" / "keys" / "e1.xlsx"))
+    names = named(tmp_path / "eng" / "keys" / "e1.xlsx")
     angles = [30.0, 60.0, 90.0, 135.0, 180.0, 390.0, 450.0]
     grid = names["q_crank_angle"]
     answers = {key: [names[f"q_{key}"][grid.index(a)] for a in angles]

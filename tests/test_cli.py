@@ -12,7 +12,7 @@ BAD_SETS = [
     (["--set", "speed=0"], "parameter speed = 0: must be > 0"),
     (["--set", "piston_mass=0"], "piston_mass"),
     (["--set", "speed=fast"], "parameter speed: 'fast' is not a number"),
-    (["--set", "speed=nan"], "not a finite number"),
+    (["--set", "speed=nan"], "parameter speed: 'nan' is not a number"),
     (["--set", "sped=3000"], "unknown parameter 'sped'"),
     (["--set", "speed"], "expected KEY=VALUE"),
     (["--set", "exact_kinematics=0", "--set", "offset=5"], "centric mechanism only"),
@@ -20,7 +20,7 @@ BAD_SETS = [
     (["--set", "pressure_source=1"], "pressure_source = 1 needs a measured trace"),
     (["--preset", "nosuch"], "unknown preset 'nosuch'"),
     (["--step", "7"], "must divide 720"),
-    (["--step", "-1"], "grid step must be a number > 0"),
+    (["--step", "-1"], "the grid step must be ≥ 0.01"),
 ]
 
 
@@ -42,7 +42,7 @@ def test_bad_parameters_are_refused(tmp_path, args, expected):
 
 BAD_TRACES = [
     ("missing.csv", None, "no such file"),
-    ("one_column.csv", "angle\n0\n10\n", "needs two columns"),
+    ("one_column.csv", "angle\n0\n10\n", "needs exactly two columns"),
     ("text.csv", "angle,p\n0,0.1\nten,0.2\n", "crank angle 'ten' is not a number"),
     ("text_p.csv", "0,0.1\n10,high\n", "pressure 'high' is not a number"),
     ("one_point.csv", "angle,p\n0,0.1\n", "at least two points"),
@@ -50,7 +50,7 @@ BAD_TRACES = [
     ("negative.csv", "\n".join(f"{a},-0.1" for a in range(0, 720, 5)), "must be > 0"),
     ("kpa.csv", "\n".join(f"{a},{100 + a}" for a in range(0, 720, 5)), "look like kPa or bar"),
     ("trace.json", "{}", "use a .csv or .xlsx"),
-    ("fake.xlsx", "not a zip", "cannot be read as xlsx"),
+    ("fake.xlsx", "not a zip", "not an .xlsx file"),
 ]
 
 
@@ -90,4 +90,4 @@ def test_verify_refuses_a_non_workbook(tmp_path):
     bogus = tmp_path / "x.xlsx"
     bogus.write_text("hello")
     done = run_cli("verify", bogus)
-    assert done.returncode == 2 and "not an .xlsx workbook" in done.stderr
+    assert done.returncode == 2 and "not an .xlsx file" in done.stderr

@@ -1,13 +1,20 @@
-"""The workbook specification and the named-range contract."""
+"""The specification language (templates/README.md) and the named-range contract.
+
+Spec-authoring mistakes must raise a SpecError naming the file and the key; each
+placeholder must compile to the Excel text the README says; the shipped templates
+must keep the contract and write every formula once."""
+import collections
 import re
 
 import numpy as np
 import pytest
 
-from crankbook import evaluate, params, spec as specs
+from crankbook import evaluate, params, placeholders, resources
+from crankbook.errors import SpecError
+from crankbook.formulas import Context, Locator, Place
 from crankbook.pressure_file import close_cycle
-from crankbook.reader import named_values, open_workbook
-from tests.conftest import run_cli
+from crankbook.spec_loader import from_data, load, template_names
+from tests.conftest import named, run_cli
 
 CONTRACT = {  # issue 3: q_ names and their units
     "crank_angle": "deg", "piston_displacement": "mm", "piston_velocity": "m/s",
@@ -24,27 +31,29 @@ CELL_LIKE = re.compile(r"^([A-Za-z]{1,3}\d+|[Rr]\d*[Cc]\d*|[RrCc])$")
 
 
 def test_contract_keys_and_units():
-    spec = specs.load("engine")
+    spec = load("engine")
     for key, unit in CONTRACT.items():
         assert spec.unit_of(key) == unit, key
     for key, unit in PARAMETERS.items():
         assert spec.parameter[key].unit == unit, key
 
 
-def test_every_quantity_has_labels_formula_and_calc():
-    spec = specs.load("engine")
+@pytest.mark.parametrize("name", template_names())
+def test_every_quantity_has_labels_formula_and_calc(name):
+    spec = load(name)
     for q in spec.quantities():
-        if q is spec.grid:
+        if q.is_numeric_grid:
             continue
-        assert q.zh and q.en and q.formula and q.calc, q.key
+        assert q.zh and q.en and q.calc, q.key
+        assert q.formula or q.kind == "scalar", q.key       # decision cells have none
         q.calc_function()
 
 
 def test_defined_names_are_valid_and_complete(tmp_path):
     path = tmp_path / "t.xlsx"
     assert run_cli("build", "--step", "10", "-o", path).returncode == 0
-    names = named_values(open_workbook(path))
-    spec = specs.load("engine")
+    names = named(path)
+    spec = load("engine")
     expected = {f"p_{k}" for k in spec.parameter} | {f"p_{k}" for k in spec.table_column} | \
         {f"q_{q.key}" for q in spec.quantities()}
     assert expected <= set(names)
@@ -53,19 +62,160 @@ def test_defined_names_are_valid_and_complete(tmp_path):
     assert len(names["q_torque"]) == 73
 
 
-def test_template_references_are_checked():
-    spec = specs.load("engine")
-    bad = specs.Quantity(key="x", kind="scalar", unit="mm", zh="x", en="x",
-                         formula="{no_such_key}", calc="calc.kinematics.stroke")
-    spec.scalars.append(bad)
-    try:
-        with pytest.raises(ValueError, match="no_such_key"):
-            specs.WorkbookSpec.__post_init__(spec) or specs.check(spec)
-    finally:
-        spec.scalars.remove(bad)
-        specs.WorkbookSpec.__post_init__(spec)
+def test_each_formula_is_written_once():
+    """No formula text of a workbook template or library appears twice (they are
+    placed from templates/common instead)."""
+    seen = collections.defaultdict(list)
+
+    def walk(node, file):
+        if isinstance(node, dict):
+            for key, value in node.items():
+                if key in ("formula", "first") and isinstance(value, str) and len(value) > 12:
+                    seen[value].append((file, node.get("key")))
+                walk(value, file)
+        elif isinstance(node, list):
+            for value in node:
+                walk(value, file)
+    files = [f"{n}.toml" for n in template_names()] + \
+        [f"common/{n}.toml" for n in resources.names("common")]
+    for file in files:
+        walk(resources.read_toml(*file.split("/")), file)
+    copies = {text: where for text, where in seen.items() if len(where) > 1}
+    assert not copies, copies
 
 
+# ---------------------------------------------------------------- authoring mistakes
+def _minimal(**extra):
+    data = {
+        "workbook": {"key": "t", "zh": "t", "en": "t", "grid": "angle", "cycle": 360.0,
+                     "grid_step": 30.0},
+        "groups": {"g": {"zh": "g", "en": "g"}},
+        "parameter": [{"key": "crank_radius", "group": "g", "unit": "mm", "zh": "r", "en": "r",
+                       "default": 50.0, "min": 0.0, "min_open": True}],
+        "sheet": [{"key": "s", "zh": "s", "en": "s", "column": [
+            {"key": "x", "unit": "mm", "zh": "x", "en": "x",
+             "formula": "{crank_radius}*(1-COS({angle|rad}))",
+             "calc": "calc.kinematics.piston_displacement_first_order",
+             "args": {"crank_angle": "angle"}}]}],
+    }
+    for section, value in extra.items():
+        data[section] = value
+    return data
+
+
+def _with_column(**column):
+    data = _minimal()
+    data["sheet"][0]["column"].append({"key": "y", "unit": "mm", "zh": "y", "en": "y",
+                                       "calc": "calc.kinematics.piston_displacement_first_order",
+                                       "args": {"crank_angle": "angle"}, **column})
+    return data
+
+
+def test_a_minimal_template_loads_and_evaluates():
+    spec = from_data(_minimal())
+    out = evaluate.evaluate(spec, {"crank_radius": 50.0})
+    assert np.allclose(out["x"], 50 * (1 - np.cos(np.radians(np.arange(0, 361, 30)))))
+
+
+@pytest.mark.parametrize("column,words", [
+    ({"formula": "{no_such_key}*2"}, "refers to unknown 'no_such_key'"),
+    ({"formula": "OFFSET({x},1,0)"}, "uses OFFSET"),
+    ({"formula": "INDIRECT(\"A1\")"}, "uses INDIRECT"),
+    ({"formula": "{x|kg}"}, "cannot convert mm to kg"),
+    ({"formula": "{x:bogus}"}, "unknown part 'bogus'"),
+    ({"formula": "{x:at(90}"}, "unmatched '}'"),
+    ({"formula": "{item}"}, "{item} outside a per-item quantity"),
+    ({"formula": "{sum:cylinder({x})}"}, "unknown axis"),
+    ({"formula": "{x}", "calc": "calc.kinematics.no_such_function"}, "not a function"),
+    ({"formula": "{x}", "unit": "furlong"}, "unit 'furlong'"),
+    ({"formula": "{x:items}"}, "needs a per-item quantity"),
+])
+def test_authoring_mistakes_name_the_file_and_key(column, words):
+    with pytest.raises(SpecError) as caught:
+        from_data(_with_column(**column), file="mine.toml")
+    message = str(caught.value)
+    assert message.startswith("templates/mine.toml: y: "), message
+    assert words in message
+    assert caught.value.file == "mine.toml" and caught.value.key == "y"
+
+
+def test_a_key_defined_twice_is_refused():
+    data = _with_column(formula="{x}")
+    data["sheet"][0]["column"][1]["key"] = "x"
+    with pytest.raises(SpecError, match="x: defined twice"):
+        from_data(data)
+
+
+def test_a_rule_on_a_guarded_quantity_would_be_circular():
+    data = _minimal(rule=[{"key": "too_big", "formula": "MAX({x})>100", "names": ["crank_radius"],
+                           "calc": "calc.checks.not_positive", "args": {"value": "x"},
+                           "zh": "z", "en": "e"}])
+    with pytest.raises(SpecError, match="check_too_big: depends on 'x', which is guarded"):
+        from_data(data)
+
+
+def test_unknown_column_set_and_rulebook_entry():
+    data = _minimal()
+    data["sheet"][0]["use"] = [{"columnset": "nope"}]
+    with pytest.raises(SpecError, match="nope: unknown column set"):
+        from_data(data)
+    data = _minimal(rule=[{"from": "nope"}])
+    with pytest.raises(SpecError, match="nope: no such rule in the rulebooks"):
+        from_data(data)
+
+
+# ---------------------------------------------------------------- the placeholders
+def test_placeholders_parse_and_unparse():
+    text = ('IF({x}<{item},{sum:cylinder(IF({throw}<{item},{torque:items},0))},'
+            '{torque:at({crank_angle}-{firing_angle|deg}+360)})+{a:head|m}+"{not a ref}"')
+    nodes = placeholders.parse(text)
+    assert placeholders.unparse(nodes) == text
+    assert placeholders.references(text) == ["x", "throw", "torque", "torque", "crank_angle",
+                                             "firing_angle", "a"]
+
+
+def _locator():
+    """A layout by hand: a 0–360° grid every 30°, a per-item axis of 3 items."""
+    spec = from_data(_minimal(
+        axis=[{"key": "cylinder", "zh": "缸", "en": "Cylinder"}],
+        parameter=_minimal()["parameter"] + [
+            {"key": "firing_angle", "group": "g", "unit": "deg", "zh": "f", "en": "f",
+             "default": [0.0, 120.0, 240.0], "axis": "cylinder"},
+            {"key": "law", "group": "g", "unit": "-", "zh": "l", "en": "l", "default": 1,
+             "kind": "choice", "choices": ["cosine", "cycloidal"]}],
+        sheet=_minimal()["sheet"] + [{"key": "c", "zh": "c", "en": "c", "kind": "items",
+                                      "axis": "cylinder"}]))
+    locator = Locator(spec, grid_rows={"angle": (5, 17)}, grid_numbers={"angle": (0.0, 30.0, 12)},
+                      axis_sizes={"cylinder": 3})
+    locator.places.update({"angle": Place("column", "S", 5, 0, grid="angle"),
+                           "x": Place("column", "S", 5, 1, grid="angle"),
+                           "firing_angle": Place("items", "C", 5, 1, count=3)})
+    return spec, locator
+
+
+@pytest.mark.parametrize("template,context,excel", [
+    ("{x}", {"grid": "angle"}, "$B\x00"),
+    ("{x}", {}, "q_x"),
+    ("{x:prev}", {"grid": "angle"}, "$B\x01"),
+    ("{x:head}", {}, "'S'!$B$6:$B$17"),
+    ("{x|m}", {"grid": "angle"}, "($B\x00/1000)"),
+    ("{angle|rad}", {"grid": "angle"}, "RADIANS($A\x00)"),
+    ("{x:at(90)}", {"grid": "angle"}, "INDEX('S'!$B$6:$B$17,MOD(INT((90)/30+0.5),12)+1)"),
+    ("{firing_angle}", {"item": 2, "axis": "cylinder"}, "'C'!$B$7"),
+    ("{firing_angle}", {}, "p_firing_angle"),
+    ("{firing_angle:item(3)}", {}, "'C'!$B$8"),
+    ("{firing_angle:item({item}+1)}", {"item": 1, "axis": "cylinder"}, "'C'!$B$7"),
+    ("{sum:cylinder({firing_angle})}", {}, "(('C'!$B$6)+('C'!$B$7)+('C'!$B$8))"),
+    ("{sum:cylinder({index}*{item})}", {"item": 2, "axis": "cylinder"}, "((1*2)+(2*2)+(3*2))"),
+    ("{law}", {}, 'MATCH(p_law,{"cosine","cycloidal"},0)'),
+    ("{cycle}/4", {}, "360/4"),
+])
+def test_each_placeholder_compiles_to_the_documented_excel(template, context, excel):
+    spec, locator = _locator()
+    assert locator.compile(placeholders.parse(template), Context(sheet="S", **context)) == excel
+
+
+# ---------------------------------------------------------------- inputs
 def test_trace_is_wrapped_sorted_and_closed():
     angles, pressures = close_cycle("t", np.array([370.0, -360.0, 0.0, 10.0, 360.0] +
                                                   list(np.arange(20.0, 720.0, 20.0))),
@@ -73,15 +223,37 @@ def test_trace_is_wrapped_sorted_and_closed():
     assert angles[0] <= 0 and angles[-1] >= 720 and np.all(np.diff(angles) > 0)
 
 
+def test_a_repeated_endpoint_that_differs_by_rounding_is_one_point():
+    angles = np.arange(-360.0, 361.0, 10.0)
+    pressures = 0.2 + 0.1 * np.cos(np.radians(angles))
+    pressures[-1] *= 1 + 1e-9                     # 360° read back from another instrument
+    got_a, got_p = close_cycle("t", angles, pressures)
+    assert np.all(np.diff(got_a) > 0) and len(got_a) == 72 + 2
+
+
 def test_grid_step_must_divide_the_cycle():
-    spec = specs.load("engine")
+    spec = load("engine")
     assert len(evaluate.crank_angle_grid(spec, 0.5)) == 1441
     with pytest.raises(Exception, match="divide"):
         evaluate.crank_angle_grid(spec, 0.7)
 
 
-def test_preset_bounds_agree_with_validation():
-    spec, values, _ = params.load_preset("thesis")
+@pytest.mark.parametrize("name", params.preset_names())
+def test_every_preset_obeys_its_own_rules(name):
+    spec, values, _ = params.load_preset(name)
     params.validate(spec, values)
     for p in spec.parameters:
-        assert not params.breaks_bounds(p, values[p.key]), p.key
+        for value in (values[p.key] if p.axis else [values[p.key]]):
+            assert not p.breaks_bounds(value), p.key
+
+
+def test_the_language_is_documented_in_one_place():
+    text = resources.read_text("README.md")
+    for part in placeholders.PARTS + placeholders.CALL_PARTS:
+        assert f":{part}" in text, part
+    for special in placeholders.SPECIAL + ("sum:", "|unit", "cycle"):
+        assert special in text, special
+    for construct in ("[[axis]]", "[[rule]]", "[[rulebook]]", "[[columnset]]", "[[sheet.use]]",
+                      "[[sheet.charts]]", "equal_axes", "step_option", "guard", "array",
+                      "discrete", "kind = \"choice\"", "[[constant]]", "[[input_table]]"):
+        assert construct in text, construct

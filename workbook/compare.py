@@ -46,6 +46,12 @@ def _pattern(shape):
     return signs.reshape(shape) if shape else 1.0
 
 
+def _peak(values):
+    values = np.asarray(values, dtype=float)
+    finite = values[np.isfinite(values)]
+    return float(np.max(np.abs(finite))) if finite.size else 0.0
+
+
 def noise_floors(spec, values, tables=None, grids=None):
     """Quantity key -> absolute rounding floor in sheet units (same shape as its value)."""
     evaluator = Evaluator(spec, values, tables, grids)
@@ -64,29 +70,36 @@ def noise_floors(spec, values, tables=None, grids=None):
             result = np.zeros(np.shape(base))
         elif q is None or q.is_numeric_grid:
             result = ROUNDING * np.abs(np.asarray(base, dtype=float))
+        elif q.is_series:
+            # every cell computes with terms of the series' magnitude, so its own
+            # rounding is relative to the series' peak (x = 200 − 50 − 150 at TDC)
+            result = _propagated(q, base, ROUNDING * _peak(base))
         else:
-            kwargs = evaluator.arguments(q)
-            total = ROUNDING * np.abs(np.asarray(base, dtype=float))
-            for name, source in q.calc_arguments().items():
-                if name not in kwargs:
-                    continue
-                shift = floor(source)
-                if np.all(np.asarray(shift) == 0):
-                    continue
-                shift = np.asarray(shift, dtype=float)
-                argument = np.asarray(kwargs[name], dtype=float)
-                if shift.shape != argument.shape:
-                    shift = np.broadcast_to(shift.reshape(shift.shape + (1,) * (
-                        argument.ndim - shift.ndim)), argument.shape) \
-                        if shift.ndim <= argument.ndim else np.max(shift)
-                moved = dict(kwargs)
-                moved[name] = argument + shift * _pattern(argument.shape)
-                changed = evaluator.call(q, moved)
-                delta = np.abs(np.asarray(changed, dtype=float) - np.asarray(base, dtype=float))
-                total = total + np.where(np.isfinite(delta), delta, 0.0)
-            result = total
+            result = _propagated(q, base, ROUNDING * np.abs(np.asarray(base, dtype=float)))
         memo[key] = result
         return result
+
+    def _propagated(q, base, own):
+        kwargs = evaluator.arguments(q)
+        total = own
+        for name, source in q.calc_arguments().items():
+            if name not in kwargs:
+                continue
+            shift = floor(source)
+            if np.all(np.asarray(shift) == 0):
+                continue
+            shift = np.asarray(shift, dtype=float)
+            argument = np.asarray(kwargs[name], dtype=float)
+            if shift.shape != argument.shape:
+                shift = np.broadcast_to(shift.reshape(shift.shape + (1,) * (
+                    argument.ndim - shift.ndim)), argument.shape) \
+                    if shift.ndim <= argument.ndim else np.max(shift)
+            moved = dict(kwargs)
+            moved[name] = argument + shift * _pattern(argument.shape)
+            changed = evaluator.call(q, moved)
+            delta = np.abs(np.asarray(changed, dtype=float) - np.asarray(base, dtype=float))
+            total = total + np.where(np.isfinite(delta), delta, 0.0)
+        return total
 
     out = {}
     for q in spec.quantities():

@@ -178,7 +178,14 @@ class Evaluator:
         return result
 
     def sheet_value(self, key):
-        return self.si(key) / units.si_factor(self.spec.unit_of(key))
+        value = self.si(key) / units.si_factor(self.spec.unit_of(key))
+        q = self.spec.quantity.get(key)
+        grid = q.args.get("crank_angle") if q is not None and q.discrete else None
+        if grid in self.grids and np.ndim(value) == 0 and np.isfinite(value):
+            # a grid angle, exactly as the grid holds it (245, not 245.00000000000003)
+            points = np.asarray(self.grids[grid], dtype=float)
+            value = float(points[np.argmin(np.abs(points - value))])
+        return value
 
 
 def evaluate(spec, values, tables=None, grids=None, overrides=None, keys=None):

@@ -6,6 +6,8 @@ row (series formulas carry markers for the row, filled per cell by :func:`fill`)
 an item (per-item quantities) and the indices of enclosing {sum:…} placeholders.
 What each placeholder becomes is documented in templates/README.md.
 """
+import ast
+import re
 from dataclasses import dataclass, field, replace
 
 from xlsxwriter.utility import xl_col_to_name, xl_rowcol_to_cell
@@ -17,6 +19,7 @@ from crankbook.spec import GUARD
 ROW = "\x00"            # the 1-based row number of the cell
 PREV = "\x01"           # the 1-based row number of the row above
 INDEX = "\x02"          # the 0-based index of the row within its grid
+INTEGER_EXPRESSION = re.compile(r"[0-9+\-*() ]{1,40}\Z")
 
 
 def quote_sheet(name):
@@ -39,6 +42,28 @@ def fill(template, row, index):
     if INDEX in text:
         text = text.replace(INDEX, str(index))
     return text
+
+
+def _integer(text):
+    """The value of a constant integer expression such as '1+1' (item(…) arguments), or
+    None for anything else."""
+    if not INTEGER_EXPRESSION.match(text):
+        return None
+    operators = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b,
+                 ast.Mult: lambda a, b: a * b}
+
+    def value(node):
+        if isinstance(node, ast.Constant) and isinstance(node.value, int):
+            return node.value
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
+            return -value(node.operand)
+        if isinstance(node, ast.BinOp) and type(node.op) in operators:
+            return operators[type(node.op)](value(node.left), value(node.right))
+        raise ValueError(node)
+    try:
+        return value(ast.parse(text, mode="eval").body)
+    except (SyntaxError, ValueError):
+        return None
 
 
 @dataclass(frozen=True)
@@ -122,9 +147,11 @@ class Locator:
 
     @staticmethod
     def guarded(body, guard):
+        """True: blank unless the inputs are valid; False: blank where the formula fails
+        (quantities the input rules read); None: the bare formula (the rules)."""
         if guard is True:
             return f'IF(q_{GUARD}=1,{body},"")'
-        if guard == "iferror":
+        if guard is False:
             return f'IFERROR({body},"")'
         return body
 
@@ -180,7 +207,8 @@ class Locator:
         formula's own item; None when it means all items."""
         if node.part == "item":
             text = self.compile(node.argument, context).strip()
-            return int(text) if text.isdigit() else text
+            folded = _integer(text)
+            return folded if folded is not None else text
         for sum_axis, index in reversed(context.sums):
             if sum_axis == axis:
                 return index
@@ -192,7 +220,7 @@ class Locator:
         item = self._chosen_item(node, axis, context)
         if item is None:
             return self.name(node.key)
-        if isinstance(item, str):
+        if isinstance(item, str) or not 1 <= item <= place.count:
             return f"INDEX({self.name(node.key)},{item})"
         return self._cell(place.sheet, place.row + item - 1, place.col, context)
 

@@ -228,6 +228,7 @@ class WorkbookSpec:
     results: list
     summary: list = field(default_factory=list)
     highlights: tuple = ()
+    key_data: tuple = ()          # inputs and results shown at the top of the Summary
 
     def __post_init__(self):
         self.parameter = {p.key: p for p in self.parameters}

@@ -13,8 +13,8 @@ from crankbook.spec import (EXTREME_TOLERANCE, Axis, Chart, Constant, InputColum
                             Parameter, Quantity, Sheet, WorkbookSpec)
 from crankbook.spec_check import check
 
-LIST_SECTIONS = ("parameter", "axis", "constant", "input_table", "rule", "scalar", "grid",
-                 "sheet", "columnset", "result", "use")
+LIST_SECTIONS = ("parameter", "axis", "constant", "input_table", "rule", "rulebook", "scalar",
+                 "grid", "sheet", "columnset", "result", "use")
 COMMON = "common"
 
 
@@ -32,10 +32,15 @@ def _read(name, folder=None):
 
 
 def _merged(name):
-    """The template's data with its libraries (include = [...]) merged in, each list
-    entry remembering the file it comes from."""
-    data = _read(name)
+    """The template's data with its libraries merged in (see :func:`_with_libraries`)."""
     file = f"{name}.toml"
+    return _with_libraries(_read(name), file), file
+
+
+def _with_libraries(data, file):
+    """``data`` with the libraries of include = [...] merged in, each list entry
+    remembering the file it comes from."""
+    data = dict(data)
     _stamp(data, file)
     seen = set()
     queue = list(data.pop("include", []))
@@ -52,7 +57,7 @@ def _merged(name):
                 data[key] = data.get(key, []) + value
             elif isinstance(value, dict):
                 data[key] = {**data.get(key, {}), **value}
-    return data, file
+    return data
 
 
 def _stamp(data, file):
@@ -233,10 +238,34 @@ def _chart(entry, sheet_entry, file):
                  type=entry.get("type", "scatter"), mean_line=entry.get("mean_line"))
 
 
+def _adopted_rules(data):
+    """The workbook's rules, those written ``from = "<rulebook key>"`` filled in from the
+    libraries' rulebooks (their own names and messages, where given, win)."""
+    book = {r["key"]: r for r in data["rulebook"]}
+    rules = []
+    for rule in data["rule"]:
+        if "from" in rule:
+            if rule["from"] not in book:
+                raise SpecError(rule["_file"], rule["from"], "no such rule in the rulebooks")
+            rule = {**book[rule["from"]], **{k: v for k, v in rule.items() if k != "from"}}
+        rules.append(rule)
+    return rules
+
+
 @lru_cache(maxsize=None)
 def load(name):
     """The workbook specification templates/<name>.toml (cached; read-only)."""
     data, file = _merged(name)
+    return build(data, file)
+
+
+def from_data(data, file="test.toml"):
+    """A specification from parsed TOML (libraries in ``include`` are merged)."""
+    return build(_with_libraries(data, file), file)
+
+
+def build(data, file):
+    """A specification from merged data (see :func:`load`)."""
     head = data.get("workbook")
     if head is None:
         raise SpecError(file, "workbook", "a template needs a [workbook] table")
@@ -314,7 +343,7 @@ def load(name):
     scalars = [_quantity(_resolve_args(e), "scalar") for e in scalar_entries]
     results = [_quantity(r, "result") for r in data["result"]]
     rules = [_quantity(dict(r, key=f"check_{r['key']}", unit=r.get("unit", "-"), guard=False),
-                       "rule") for r in data["rule"]]
+                       "rule") for r in _adopted_rules(data)]
     by_grid = {g.key: g for g in grids}
     summary_series = [c for s in sheets if s.kind == "series" for c in s.columns
                       if c.summary and not c.items]
@@ -323,6 +352,6 @@ def load(name):
         groups=data.get("groups", {}), parameters=parameters, axes=axes, constants=constants,
         input_tables=tables, rules=rules, scalars=scalars, sheets=sheets, results=results,
         summary=_summary_quantities(by_grid, summary_series),
-        highlights=tuple(head.get("highlights", ())))
+        highlights=tuple(head.get("highlights", ())), key_data=tuple(head.get("key_data", ())))
     check(spec)
     return spec

@@ -16,8 +16,8 @@ from openpyxl.utils.cell import get_column_letter
 from crankbook import recalc
 from crankbook.compare import allowances
 from crankbook.verification import expected_values
-from crankbook.workbook_reader import (cells, defined_ranges, expected_shape, load_named,
-                                       open_book)
+from crankbook.workbook_reader import (cells, defined_ranges, expected_shape, formulas,
+                                       load_named, open_book)
 
 
 @dataclass
@@ -37,19 +37,12 @@ def _addresses(found):
 
 def _saved_without_values(path):
     """True when formula cells carry no stored results (e.g. written by openpyxl)."""
-    formulas, values = open_book(path, data_only=False), open_book(path, data_only=True)
-    for name, found in defined_ranges(formulas, ("q_",)).items():
-        written = cells(formulas, found)
-        stored = cells(values, defined_ranges(values, ("q_",))[name])
-        for formula, value in zip(written, stored):
-            if _is_formula(formula):
+    book = open_book(path)
+    for name, found in defined_ranges(book, ("q_",)).items():
+        for has_formula, value in zip(formulas(book, found), cells(book, found)):
+            if has_formula:
                 return value is None
     return False
-
-
-def _is_formula(value):
-    return (isinstance(value, str) and value.startswith("=")) or \
-        type(value).__name__ == "ArrayFormula"
 
 
 def audit_workbook(path, workdir=None):
@@ -69,7 +62,7 @@ def audit_workbook(path, workdir=None):
 def _audit(original, values_path, shown, recalculated):
     book, spec, template, ranges, values, tables, grids, sizes, grid_rows = \
         load_named(values_path)
-    formula_book = open_book(original, data_only=False)
+    formula_book = open_book(original)
     formula_ranges = defined_ranges(formula_book)
     expected, floors = expected_values(spec, values, tables, grids)
     rule_message = None
@@ -94,8 +87,8 @@ def _audit(original, values_path, shown, recalculated):
                 f"covers {found.rows}×{found.cols} cells; the template gives it {rows}×{cols}"))
             continue
         stored_cells = cells(book, found)
-        written = cells(formula_book, formula_ranges[name]) if name in formula_ranges else \
-            [None] * len(stored_cells)
+        written = formulas(formula_book, formula_ranges[name]) if name in formula_ranges \
+            else [False] * len(stored_cells)
         if expected is None:
             want = np.full(len(stored_cells), math.nan)
             allowed = np.zeros(len(stored_cells))
@@ -106,7 +99,7 @@ def _audit(original, values_path, shown, recalculated):
         for i, (address, stored, formula) in enumerate(zip(_addresses(found), stored_cells,
                                                             written)):
             target = want[i] if i < want.size else math.nan
-            if not constant and not _is_formula(formula):
+            if not constant and not formula:
                 findings.append(CellFinding(address, name, stored, target,
                                             "formula replaced by a constant"))
             elif isinstance(stored, str) and stored.startswith("#"):

@@ -15,7 +15,7 @@ import numpy as np
 from crankbook import recalc
 from crankbook.errors import CrankbookError, WorkbookReadError
 from crankbook.evaluate import MAX_ROWS
-from crankbook.safe_read import Unreadable, open_untrusted
+from crankbook.xlsx_reader import Unreadable, XlsxBook
 from crankbook.spec_loader import load as load_spec, template_names
 from crankbook.writer.build import PROPERTY_PRESET, PROPERTY_STEPS, PROPERTY_TEMPLATE
 
@@ -102,29 +102,36 @@ def defined_ranges(book, prefixes=("p_", "q_")):
     """name -> Range for every defined name with a given prefix."""
     sheets = set(book.sheetnames)
     out = {}
-    for name, defined in book.defined_names.items():
+    for name, text in book.defined_names.items():
         if name.startswith(prefixes):
-            out[name] = parse_reference(name, defined.attr_text, sheets)
+            out[name] = parse_reference(name, text, sheets)
     return out
+
+
+def _block(read, book, found):
+    try:
+        return read(found.sheet, found.min_row, found.min_col, found.max_row, found.max_col)
+    except Unreadable as reason:
+        raise WorkbookReadError(f"{book.path}: {reason}") from None
 
 
 def cells(book, found):
     """The cell values of a Range, row by row."""
-    ws = book[found.sheet]
-    if not hasattr(ws, "iter_rows"):
-        raise WorkbookReadError(f"sheet {found.sheet!r} is a chart sheet, not cells")
-    return [value for row in ws.iter_rows(min_row=found.min_row, max_row=found.max_row,
-                                          min_col=found.min_col, max_col=found.max_col,
-                                          values_only=True) for value in row]
+    return _block(book.values, book, found)
 
 
-def open_book(path, data_only=True):
-    """An openpyxl workbook of a checked file, or WorkbookReadError with the reason."""
+def formulas(book, found):
+    """True for each cell of a Range that holds a formula."""
+    return _block(book.has_formulas, book, found)
+
+
+def open_book(path):
+    """A checked, bounded XlsxBook, or WorkbookReadError with the reason."""
     path = Path(path)
     if not path.is_file():
         raise WorkbookReadError(f"{path}: no such file")
     try:
-        return open_untrusted(path, data_only=data_only)
+        return XlsxBook(path)
     except Unreadable as reason:
         raise WorkbookReadError(f"{path}: {reason}") from None
 
@@ -142,15 +149,12 @@ def template_of(book, ranges):
                 return name
         except CrankbookError:
             continue
-    raise WorkbookReadError("the workbook has no p_ names of any crankbook template; was it "
-                            "written by crankbook?")
+    raise WorkbookReadError(f"{book.path}: has no p_ and q_ names of a crankbook template; "
+                            f"was it written by crankbook?")
 
 
 def _property(book, name, default=None):
-    for prop in getattr(book, "custom_doc_props", None) or ():
-        if prop.name == name:
-            return prop.value
-    return default
+    return book.custom_properties.get(name, default)
 
 
 def _number(value):

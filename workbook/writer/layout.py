@@ -201,7 +201,7 @@ class Layout:
 
 
 def spec_key_data(spec):
-    return list(getattr(spec, "key_data", ()) or ())
+    return list(spec.key_data)
 
 
 def summary_series(spec):

@@ -14,13 +14,11 @@ def write_formula_cell(ws, row, col, quantity, layout, results, styles, sheet_na
     if quantity.formula is None:
         ws.write_number(row, col, float(value), fmt)
         return
-    guard = quantity.guard if quantity.kind != "rule" else False
+    guard = quantity.guard if quantity.kind != "rule" else None
     formula = layout.locator.scalar_formula(quantity.nodes, sheet_name, item=item,
                                             axis=quantity.items, guard=guard)
     if quantity.kind == "rule":
         formula = "=" + rule_wrapper(layout, quantity, formula[1:])
-    elif guard is False:
-        formula = "=" + layout.locator.guarded(formula[1:], "iferror")
     if quantity.array:
         ws.write_array_formula(row, col, row, col, "{" + formula + "}", fmt, cached(value))
     else:

@@ -1,0 +1,117 @@
+"""The workbooks every spreadsheet-engine cross-check recalculates, built once.
+
+Each entry is built through the command line (``args``) or made from another by
+typing into its input cells (``edit_of``, ``edits``, ``tables``), as a user would.
+The expected values are numpy's, evaluated on the inputs stored in each file —
+never on what the writer computed.  LibreOffice recalculates all files in one run,
+Gnumeric one by one.
+"""
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from crankbook import recalc
+from crankbook.verification import expected_values
+from crankbook.workbook_reader import load_named, read_results
+from tests.conftest import edit_cells, named, run_cli
+
+ENGINES = ("libreoffice", "gnumeric")
+PASTED_TRACE = np.arange(-5.0, 726.0, 5.0)
+WORKBOOKS = {
+    # the thesis engine (issue 3) ------------------------------------------------
+    "thesis": {"args": []},
+    "thesis_offset_en": {"args": ["--set", "offset=12", "--set", "rod_length=165", "--lang",
+                                  "en", "--step", "2"]},
+    "thesis_series": {"args": ["--set", "exact_kinematics=0", "--set", "speed=3200"]},
+    "thesis_measured": {"args": ["--pressure", "{trace}", "--step", "0.5"]},
+    "thesis_edit_offset": {"edit_of": "thesis",
+                           "edits": {"offset": -9.0, "rod_length": 172.0, "bore": 92.0}},
+    "thesis_edit_speed": {"edit_of": "thesis",
+                          "edits": {"speed": 2300.0, "crank_radius": 45.0, "piston_mass": 0.41}},
+    "thesis_edit_series": {"edit_of": "thesis", "edits": {"exact_kinematics": 0.0, "speed": 6100.0}},
+    "thesis_edit_trace": {"edit_of": "thesis", "edits": {"pressure_source": 1.0},
+                          "tables": {"trace_crank_angle": PASTED_TRACE,
+                                     "trace_pressure": 0.12 + 3.0 * np.exp(
+                                         -((PASTED_TRACE - 372) / 25) ** 2)}},
+    "thesis_invalid": {"edit_of": "thesis", "edits": {"rod_length": 40.0}, "valid": False},
+    # the course design (issue 4) ------------------------------------------------
+    "course": {"args": ["--preset", "course-design"]},
+    "course_group1_en": {"args": ["--preset", "course-design", "--group", "1", "--lang", "en"]},
+    "course_group6_step2": {"args": ["--preset", "course-design", "--group", "6", "--step", "2"]},
+    "course_group12": {"args": ["--preset", "course-design", "--group", "12"]},
+    # a measured trace whose points fall exactly on grid and position angles (30°, …)
+    "course_measured": {"args": ["--preset", "course-design", "--pressure", "{course_trace}",
+                                 "--step", "3"]},
+    "course_edited": {"edit_of": "course", "edits": {"time_ratio": 1.12, "offset": 35.0,
+                                                     "speed": 900.0, "crank_cg_ratio": 0.0}},
+    "optimization": {"args": ["--preset", "offset-optimization"]},
+}
+
+
+@dataclass
+class Checked:
+    """One workbook: its spec, numpy's values and floors for its own stored inputs,
+    the values stored in the file, and each engine's recalculated names."""
+    path: object
+    spec: object
+    expected: dict | None
+    floors: dict | None
+    cached: dict
+    engines: dict = field(default_factory=dict)     # engine -> {name: value}
+    saved: dict = field(default_factory=dict)       # engine -> the file it saved
+    valid: bool = True
+
+
+def synthetic_trace(path):
+    """A measured-looking trace on −360…359.3° in scrambled order (its own grid)."""
+    angles = np.arange(-360.0, 360.0, 0.7)
+    pressures = 0.1 + 4.5 * np.exp(-((angles - 12) / 28) ** 2) + 0.02 * np.cos(angles / 40)
+    order = np.random.default_rng(7).permutation(len(angles))
+    lines = ["crank angle [deg],pressure [MPa]"] + \
+        [f"{float(angles[i])!r},{float(pressures[i])!r}" for i in order]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def course_trace(path):
+    angles = np.arange(0.0, 720.0, 2.0)
+    path.write_text("\n".join(f"{a},{float(0.1 + 5 * np.exp(-((a - 370) / 25) ** 2))!r}"
+                              for a in angles))
+
+
+def build_all(tmp, workbooks=WORKBOOKS):
+    files = {"trace": tmp / "trace.csv", "course_trace": tmp / "course_trace.csv"}
+    synthetic_trace(files["trace"])
+    course_trace(files["course_trace"])
+    paths = {}
+    for name, entry in workbooks.items():
+        path = tmp / f"{name}.xlsx"
+        if "edit_of" in entry:
+            edit_cells(paths[entry["edit_of"]], path, entry.get("edits", {}),
+                       entry.get("tables"))
+        else:
+            args = [a.format(**{k: str(v) for k, v in files.items()}) for a in entry["args"]]
+            done = run_cli("build", "-o", path, *args)
+            assert done.returncode == 0, done.stderr
+        paths[name] = path
+    return paths
+
+
+def recalculate_all(tmp, paths, workbooks=WORKBOOKS):
+    """name -> Checked, with every file recalculated in every engine."""
+    out = {}
+    for name, path in paths.items():
+        book, spec, template, ranges, values, tables, grids, sizes, rows = load_named(path)
+        expected, floors = expected_values(spec, values, tables, grids)
+        out[name] = Checked(path, spec, expected, floors, named(path),
+                            valid=workbooks[name].get("valid", True))
+    with ThreadPoolExecutor(max_workers=2) as pool:      # the engines on both cores
+        lo = pool.submit(recalc.convert, list(paths.values()), tmp / "libreoffice")
+        gn = pool.submit(recalc.convert, list(paths.values()), tmp / "gnumeric",
+                         engine="gnumeric")
+        converted, gnumeric = lo.result(), gn.result()
+    for engine, files in (("libreoffice", converted), ("gnumeric", gnumeric)):
+        for name, path in zip(paths, files):
+            out[name].engines[engine] = named(path)
+            out[name].saved[engine] = path
+    return out

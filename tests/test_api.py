@@ -1,0 +1,154 @@
+"""The Python API: compute, Results, to_excel, read, verify — and the defects of
+issue 9 (English status, engine-saved files audited, near-zero scalars, caches)."""
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import crankbook
+from crankbook.errors import (GeometryError, ParameterValueError, UnknownParameterError,
+                              UnknownPresetError)
+from crankbook.workbook_audit import audit_workbook
+from crankbook.writer.series_sheet import cached
+from crankbook.xlsx_reader import XlsxBook
+from tests.conftest import run_cli
+
+
+@pytest.fixture(scope="module")
+def thesis():
+    return crankbook.compute("thesis")
+
+
+def test_compute_gives_frames_in_sheet_units(thesis):
+    frame = thesis.series()
+    assert frame.index.name == "crank_angle" and len(frame) == 721
+    assert frame.index[0] == 0 and frame.index[-1] == 720
+    # torque = F_t·r in N·m from the N and mm columns (an identity, not a copy)
+    assert np.allclose(frame["torque"], frame["tangential_force"] * 50 / 1000)
+    assert thesis.scalars["crank_rod_ratio"] == pytest.approx(1 / 3)
+    assert thesis.scalars["reciprocating_mass"] == pytest.approx(0.515, abs=5e-4)
+    assert thesis.parameters["bore"] == 88 and thesis.grids == ["crank_angle"]
+    course = crankbook.compute("course-design")
+    assert len(course.series("pos_crank_angle")) == 30
+    assert "pos_crank_angle" in course.grids
+    with pytest.raises(crankbook.CrankbookError, match="unknown grid"):
+        course.series("nope")
+
+
+def test_parameters_and_step_change_the_results():
+    slow = crankbook.compute("thesis", speed=2500, step=2)
+    assert len(slow.series()) == 361
+    fast = crankbook.compute("thesis", speed=5000, step=2)
+    # inertia force scales with ω²
+    assert np.allclose(fast["inertia_force"], 4 * slow["inertia_force"])
+
+
+def test_a_pressure_dataframe_is_a_measured_trace(tmp_path):
+    angles = np.arange(0.0, 720.0, 5.0)
+    trace = pd.DataFrame({"angle": angles, "p": 0.1 + 3 * np.exp(-((angles - 370) / 30) ** 2)})
+    from_frame = crankbook.compute("thesis", pressure=trace)
+    assert from_frame.parameters["pressure_source"] == 1
+    csv = tmp_path / "trace.csv"
+    trace.to_csv(csv, index=False)
+    from_file = crankbook.compute("thesis", pressure=csv)
+    assert np.array_equal(from_frame["cylinder_pressure"], from_file["cylinder_pressure"])
+    assert from_frame["cylinder_pressure_max"] == pytest.approx(3.1, abs=0.01)
+
+
+@pytest.mark.parametrize("kwargs,error,words", [
+    ({"speed": 0}, ParameterValueError, "parameter speed = 0: must be > 0"),
+    ({"speed": "fast"}, ParameterValueError, "'fast' is not a number"),
+    ({"sped": 3000}, UnknownParameterError, "unknown parameter 'sped'"),
+    ({"rod_length": 40}, GeometryError, "rod too short"),
+    ({"preset": "nope"}, UnknownPresetError, "unknown preset 'nope'"),
+    ({"preset": "../presets/thesis"}, UnknownPresetError, "unknown preset"),
+    ({"step": 7}, crankbook.CrankbookError, "must divide 720"),
+])
+def test_bad_input_raises_the_command_lines_typed_error(kwargs, error, words):
+    with pytest.raises(error, match=words.replace("(", r"\(")):
+        crankbook.compute(**kwargs)
+
+
+def test_the_command_line_says_the_same(tmp_path):
+    done = run_cli("build", "--set", "speed=0", "-o", tmp_path / "x.xlsx")
+    with pytest.raises(ParameterValueError) as caught:
+        crankbook.compute(speed=0)
+    assert done.stderr.strip() == f"crankbook: error: {caught.value}"
+
+
+def test_read_gives_back_what_compute_wrote(tmp_path, thesis):
+    path = thesis.to_excel(tmp_path / "thesis.xlsx", lang="en")
+    back = crankbook.read(path)
+    assert back.template == "engine" and back.preset["name"] == "thesis"
+    assert back.values == thesis.values
+    for key, value in thesis.results.items():
+        assert np.allclose(np.asarray(back[key], float), np.asarray(value, float), rtol=1e-15,
+                           atol=0, equal_nan=True), key
+    pd.testing.assert_frame_equal(back.series(), thesis.series())
+
+
+def test_workbooks_record_what_wrote_them(tmp_path, thesis):
+    book = XlsxBook(thesis.to_excel(tmp_path / "t.xlsx"))
+    assert book.custom_properties["crankbook_template"] == "engine"
+    assert book.custom_properties["crankbook_version"] == crankbook.__version__
+    assert book.custom_properties["crankbook_preset"] == "thesis"
+
+
+def test_no_infinity_or_nan_is_ever_cached(tmp_path, thesis):
+    assert cached(float("inf")) == "" and cached(float("nan")) == "" and cached(2.5) == 2.5
+    path = thesis.to_excel(tmp_path / "t.xlsx")
+    with zipfile.ZipFile(path) as archive:
+        for name in archive.namelist():
+            if name.startswith("xl/worksheets/"):
+                text = archive.read(name)
+                assert b"inf</v>" not in text and b"nan</v>" not in text, name
+
+
+def test_same_input_same_bytes(tmp_path, thesis):
+    a, b = tmp_path / "a.xlsx", tmp_path / "b.xlsx"
+    thesis.to_excel(a)
+    crankbook.compute("thesis").to_excel(b)
+    assert a.read_bytes() == b.read_bytes()
+
+
+@pytest.mark.libreoffice
+def test_verify_and_read_recalculated(tmp_path, soffice):
+    result = crankbook.compute("thesis", speed=3100, step=4)
+    path = result.to_excel(tmp_path / "t.xlsx", lang="en")
+    frame = crankbook.verify(path)
+    assert frame.attrs["valid"] == 1 and frame["ok"].all() and len(frame) == 110
+    back = crankbook.read(path, recalculate=True)
+    assert np.allclose(back["torque"], result["torque"], rtol=0, atol=1e-9 * 300)
+    done = run_cli("verify", path)                  # an English workbook verifies (issue 9)
+    assert done.returncode == 0, done.stdout
+
+
+@pytest.mark.parametrize("engine", ["libreoffice", "gnumeric"])
+def test_audit_accepts_files_the_engines_saved_unchanged(checked, engine):
+    for name in ("thesis", "course", "optimization"):
+        spec, findings, recalculated, rule = audit_workbook(checked[name].saved[engine])
+        assert not findings, (engine, name, findings[:3])
+
+
+def test_verify_accepts_a_mean_torque_that_is_zero_up_to_rounding(checked, tmp_path):
+    """A constant-pressure trace: the mean torque is 0 up to rounding in every engine."""
+    trace = pd.DataFrame({"a": np.arange(0.0, 720.0, 10.0), "p": 0.1})
+    result = crankbook.compute("thesis", pressure=trace)
+    assert abs(result["mean_torque"]) < 1e-9
+    frame = crankbook.verify(result.to_excel(tmp_path / "c.xlsx"), engine="gnumeric")
+    assert frame["ok"].all(), frame[~frame.ok]
+
+
+@pytest.mark.libreoffice
+def test_the_readme_example_runs_as_printed(tmp_path, soffice):
+    text = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+    start = text.index("```python\nimport numpy as np")
+    code = text[start + len("```python\n"):text.index("```", start + 10)]
+    done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "output" / "thesis-3000.xlsx").is_file()

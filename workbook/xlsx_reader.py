@@ -1,0 +1,261 @@
+"""A small, bounded reader of .xlsx files: defined names, cell values (as saved),
+whether a cell holds a formula, and custom document properties.
+
+It reads only what crankbook needs, straight from the zip, and refuses before
+parsing what could exhaust the machine: too large on disk or unpacked, too many
+parts, a part compressed beyond any real workbook, an unknown compression method,
+XML entity or DOCTYPE declarations (in UTF-8 or UTF-16), macro and ActiveX parts
+(found by content type and by content, not by file name), and encrypted or legacy
+files.  Every refusal is an Unreadable with the reason in words.
+"""
+import re
+import time
+import zipfile
+import zlib
+from pathlib import Path
+from xml.etree import ElementTree
+
+MAX_FILE = 20 * 1024 * 1024           # bytes on disk
+MAX_UNPACKED = 100 * 1024 * 1024      # bytes, all parts together
+MAX_PART = 60 * 1024 * 1024           # bytes, one part
+MAX_RATIO = 200                       # per part above 1 MB: unpacked / packed
+MAX_PARTS = 2000
+MAX_DEPTH = 64                        # XML element nesting
+TIME_LIMIT = 30.0                     # seconds to read one file, on every platform
+OLE_MAGIC = b"\xd0\xcf\x11\xe0"
+MAIN = "http://schemas.openxmlformats.org/spreadsheetml/2006/main"
+REL = "http://schemas.openxmlformats.org/officeDocument/2006/relationships"
+PACKAGE_REL = "http://schemas.openxmlformats.org/package/2006/relationships"
+MACRO_TYPES = ("vbaProject", "macroEnabled", "activeX", "ms-office.vbaProject", "vnd.ms-excel.macro",
+               "ms-excel.intlmacrosheet", "ms-excel.macrosheet", "oleObject")
+MACRO_MAGIC = (OLE_MAGIC, b"Attribute VB_Name")
+DECLARATION = re.compile(rb"<!\s*(DOCTYPE|ENTITY)", re.I)
+CELL = re.compile(r"([A-Z]{1,3})([0-9]{1,7})\Z")
+
+
+class Unreadable(Exception):
+    """Why a file could not be read."""
+
+
+def _column(letters):
+    number = 0
+    for char in letters:
+        number = number * 26 + ord(char) - 64
+    return number
+
+
+def _text_of(data, name):
+    """The part as text, decoded by its BOM; Unreadable for declarations in any encoding."""
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        try:
+            text = data.decode("utf-16")
+        except UnicodeDecodeError:
+            raise Unreadable(f"{name} is not valid UTF-16") from None
+        encoded = text.encode("utf-8")
+    else:
+        encoded = data[3:] if data.startswith(b"\xef\xbb\xbf") else data
+    if DECLARATION.search(encoded) or DECLARATION.search(data.replace(b"\x00", b"")):
+        raise Unreadable(f"{name} declares XML entities or a DOCTYPE (entity bomb?): not parsed")
+    return encoded
+
+
+class XlsxBook:
+    """The parts of one .xlsx that crankbook reads; see the module docstring."""
+
+    def __init__(self, path, time_limit=TIME_LIMIT):
+        self.path = Path(path)
+        self.deadline = time.monotonic() + time_limit
+        self.time_limit = time_limit
+        self._check_file()
+        try:
+            self.zip = zipfile.ZipFile(self.path)
+            self._check_parts()
+            self._read_workbook()
+        except zipfile.BadZipFile as error:
+            raise Unreadable(f"corrupt zip ({error})") from None
+        except (zlib.error, EOFError, OSError, NotImplementedError, RuntimeError) as error:
+            raise Unreadable(f"damaged compressed data ({type(error).__name__})") from None
+        except ElementTree.ParseError as error:
+            raise Unreadable(f"damaged XML ({error})") from None
+        self._sheets = {}
+
+    # ------------------------------------------------------------ checks
+    def _check_file(self):
+        try:
+            size = self.path.stat().st_size
+        except OSError as error:
+            raise Unreadable(f"cannot be opened ({error.strerror})") from None
+        if size > MAX_FILE:
+            raise Unreadable(f"file is {size / 1e6:.0f} MB, more than {MAX_FILE // 2**20} MB")
+        with open(self.path, "rb") as handle:
+            head = handle.read(8)
+        if head.startswith(OLE_MAGIC):
+            raise Unreadable("password-protected (encrypted) or legacy .xls workbook")
+        if self.path.suffix.lower() in (".xlsm", ".xltm", ".xlam"):
+            raise Unreadable("macro-enabled workbook: not opened; save it as .xlsx")
+        if not head.startswith(b"PK"):
+            raise Unreadable("not an .xlsx file (not a zip container)")
+
+    def _check_parts(self):
+        members = self.zip.infolist()
+        if len(members) > MAX_PARTS:
+            raise Unreadable(f"{len(members)} parts in the zip: not a workbook")
+        names = [m.filename for m in members]
+        if len(set(names)) != len(names):
+            raise Unreadable("the zip holds two parts of the same name")
+        total = 0
+        for member in members:
+            if member.compress_type not in (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED):
+                raise Unreadable(f"{member.filename} uses an unsupported compression method")
+            if member.flag_bits & 0x1:
+                raise Unreadable("encrypted zip parts: not opened")
+            total += member.file_size
+            if total > MAX_UNPACKED or member.file_size > MAX_PART:
+                raise Unreadable(f"unpacks to more than {MAX_UNPACKED // 2**20} MB (zip bomb?)")
+            if member.file_size > 1024 * 1024 and \
+                    member.file_size > MAX_RATIO * max(member.compress_size, 1):
+                raise Unreadable(f"{member.filename} is compressed {MAX_RATIO}:1 or more "
+                                 f"(zip bomb?)")
+        if "xl/workbook.xml" not in names and "[Content_Types].xml" not in names:
+            raise Unreadable("a zip file but not an .xlsx workbook")
+        types = self._part("[Content_Types].xml", required=False) or b""
+        lowered = types.lower()
+        if any(t.lower().encode() in lowered for t in MACRO_TYPES):
+            raise Unreadable("contains macros or ActiveX controls: not opened")
+        for member in members:
+            if member.filename.endswith((".xml", ".rels", ".vml")):
+                _text_of(self._part(member.filename), member.filename)
+            elif not member.filename.endswith("/"):
+                head = self._part(member.filename)[:4096]
+                if any(magic in head for magic in MACRO_MAGIC):
+                    raise Unreadable(f"{member.filename} holds macro code: not opened")
+
+    def _tick(self):
+        if time.monotonic() > self.deadline:
+            raise Unreadable(f"took longer than {self.time_limit:g} s to read")
+
+    def _part(self, name, required=True):
+        self._tick()
+        try:
+            with self.zip.open(name) as stream:
+                data = stream.read(MAX_PART + 1)
+        except KeyError:
+            if required:
+                raise Unreadable(f"the part {name} is missing") from None
+            return None
+        if len(data) > MAX_PART:
+            raise Unreadable(f"{name} unpacks to more than {MAX_PART // 2**20} MB")
+        return data
+
+    def _xml(self, name, required=True):
+        data = self._part(name, required)
+        if data is None:
+            return None
+        root = ElementTree.fromstring(_text_of(data, name))
+        self._check_depth(root, name)
+        return root
+
+    def _check_depth(self, root, name):
+        stack = [(root, 1)]
+        while stack:
+            node, depth = stack.pop()
+            if depth > MAX_DEPTH:
+                raise Unreadable(f"{name} nests XML deeper than {MAX_DEPTH} levels")
+            stack.extend((child, depth + 1) for child in node)
+
+    # ------------------------------------------------------------ workbook part
+    def _read_workbook(self):
+        book = self._xml("xl/workbook.xml")
+        rels = self._xml("xl/_rels/workbook.xml.rels")
+        targets = {r.get("Id"): (r.get("Target") or "", r.get("Type") or "")
+                   for r in rels.iter(f"{{{PACKAGE_REL}}}Relationship")}
+        self.sheet_part, self.chart_sheets, self.sheetnames = {}, set(), []
+        for sheet in book.iter(f"{{{MAIN}}}sheet"):
+            name = sheet.get("name")
+            target, kind = targets.get(sheet.get(f"{{{REL}}}id"), ("", ""))
+            self.sheetnames.append(name)
+            if kind.endswith("/chartsheet"):
+                self.chart_sheets.add(name)
+                continue
+            target = target.lstrip("/")
+            self.sheet_part[name] = target if target.startswith("xl/") else "xl/" + target
+        self.defined_names = {}
+        for item in book.iter(f"{{{MAIN}}}definedName"):
+            if item.get("localSheetId") is None and item.text:
+                self.defined_names[item.get("name")] = item.text
+        self.shared = []
+        strings = self._xml("xl/sharedStrings.xml", required=False)
+        if strings is not None:
+            for si in strings.iter(f"{{{MAIN}}}si"):
+                self.shared.append("".join(t.text or "" for t in si.iter(f"{{{MAIN}}}t")))
+        self.custom_properties = {}
+        custom = self._xml("docProps/custom.xml", required=False)
+        if custom is not None:
+            for prop in custom:
+                value = next(iter(prop), None)
+                self.custom_properties[prop.get("name")] = value.text if value is not None \
+                    else None
+
+    # ------------------------------------------------------------ cells
+    def _sheet(self, name):
+        if name in self._sheets:
+            return self._sheets[name]
+        if name in self.chart_sheets:
+            raise Unreadable(f"sheet {name!r} is a chart sheet, not cells")
+        if name not in self.sheet_part:
+            raise Unreadable(f"sheet {name!r} does not exist")
+        try:
+            root = self._xml(self.sheet_part[name])
+        except ElementTree.ParseError as error:
+            raise Unreadable(f"sheet {name!r} is damaged XML ({error})") from None
+        except (zlib.error, EOFError, zipfile.BadZipFile, OSError) as error:
+            raise Unreadable(f"sheet {name!r}: damaged compressed data "
+                             f"({type(error).__name__})") from None
+        cells = {}
+        tag_c, tag_v, tag_f, tag_is = (f"{{{MAIN}}}c", f"{{{MAIN}}}v", f"{{{MAIN}}}f",
+                                       f"{{{MAIN}}}is")
+        for count, cell in enumerate(root.iter(tag_c)):
+            if count % 20000 == 0:
+                self._tick()
+            match = CELL.match(cell.get("r") or "")
+            if not match:
+                continue
+            key = (int(match.group(2)), _column(match.group(1)))
+            kind = cell.get("t", "n")
+            v = cell.find(tag_v)
+            text = v.text if v is not None else None
+            if kind == "s":
+                try:
+                    value = self.shared[int(text)] if text is not None else None
+                except (ValueError, IndexError):
+                    value = None
+            elif kind in ("str", "e"):
+                value = text
+            elif kind == "inlineStr":
+                inline = cell.find(tag_is)
+                value = "".join(t.text or "" for t in inline.iter(f"{{{MAIN}}}t")) \
+                    if inline is not None else None
+            elif kind == "b":
+                value = text == "1"
+            else:
+                try:
+                    value = float(text) if text not in (None, "") else None
+                except ValueError:
+                    value = None
+            cells[key] = (value, cell.find(tag_f) is not None)
+        self._sheets[name] = cells
+        return cells
+
+    def values(self, sheet, min_row, min_col, max_row, max_col):
+        """Cell values row by row (None for empty cells)."""
+        cells = self._sheet(sheet)
+        return [cells.get((r, c), (None, False))[0] for r in range(min_row, max_row + 1)
+                for c in range(min_col, max_col + 1)]
+
+    def has_formulas(self, sheet, min_row, min_col, max_row, max_col):
+        cells = self._sheet(sheet)
+        return [cells.get((r, c), (None, False))[1] for r in range(min_row, max_row + 1)
+                for c in range(min_col, max_col + 1)]
+
+    def close(self):
+        self.zip.close()
