@@ -1,8 +1,13 @@
-"""Write files whole or not at all: into a temporary file beside the target, then rename."""
+"""Write files whole or not at all: into a temporary file beside the target, then rename.
+
+The temporary name carries the process id (crankbook.workspace), so a run that was
+killed half-way leaves nothing the next run does not remove.
+"""
 import os
-import tempfile
 from contextlib import contextmanager
 from pathlib import Path
+
+from crankbook.workspace import sweep, temporary_name
 
 
 @contextmanager
@@ -13,13 +18,13 @@ def atomic_path(path):
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(handle)
+    sweep(path.parent, path.name)
+    temporary = temporary_name(path)
     try:
-        yield temporary
+        yield str(temporary)
         umask = os.umask(0)
         os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)      # mkstemp's 0600 is not what a user expects
+        os.chmod(temporary, 0o666 & ~umask)
         os.replace(temporary, path)
     finally:
         if os.path.exists(temporary):

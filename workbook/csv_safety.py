@@ -1,0 +1,27 @@
+"""CSV that no spreadsheet executes and every LMS matches.
+
+A text field that a spreadsheet would read as a formula (starting with = + - @,
+a tab or a carriage return) gets a leading apostrophe; student ids never need it,
+because the roster refuses ids that start with those characters, so an id in
+every CSV crankbook writes is exactly the id the LMS knows.
+"""
+import csv
+import io
+
+FORMULA_START = ("=", "+", "-", "@", "\t", "\r", "\n")
+
+
+def safe(value):
+    """A CSV field that no spreadsheet will execute (numbers pass unchanged)."""
+    if isinstance(value, str) and value.startswith(FORMULA_START):
+        return "'" + value
+    return value
+
+
+def csv_text(rows):
+    """The rows as CSV text (UTF-8 with the caller's encoding), every field made safe."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    for row in rows:
+        writer.writerow([safe(v) for v in row])
+    return buffer.getvalue()

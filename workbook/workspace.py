@@ -1,0 +1,135 @@
+"""Outputs written whole or not at all, one writer at a time, nothing left behind.
+
+* :func:`lock` — one crankbook run at a time writes a given output; a second one
+  gets one clear refusal.  A lock whose process is gone (a killed run) is taken
+  over.
+* :func:`staged_directory` — a directory output (a class pack, grading results) is
+  built in a hidden sibling and renamed into place; an existing one is replaced
+  only once the new one is complete.
+* :func:`sweep` — what killed runs left (staging folders, ``.tmp`` files carrying
+  their process id) is removed by the next run.
+"""
+import os
+import shutil
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+from crankbook.errors import BuildCancelled, BuildOptionError
+
+MARK = ".crankbook-"                  # hidden names crankbook creates carry it
+
+
+def alive(pid):
+    """True when a process ``pid`` exists (on this machine)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    except OSError:
+        return False
+    return True
+
+
+def _pid_of(name):
+    """The process id a hidden name ``.<target>.crankbook-<pid>…`` carries, or None."""
+    if MARK not in name:
+        return None
+    tail = name.rsplit(MARK, 1)[1]
+    digits = tail.split(".", 1)[0].split("-", 1)[0]
+    return int(digits) if digits.isdigit() else None
+
+
+def sweep(parent, target_name):
+    """Remove what a killed run left beside ``target_name`` in ``parent``."""
+    parent = Path(parent)
+    if not parent.is_dir():
+        return
+    prefix = f".{target_name}{MARK}"
+    for entry in parent.iterdir():
+        if not entry.name.startswith(prefix) or entry.name.endswith(".lock"):
+            continue
+        pid = _pid_of(entry.name)
+        if pid is None or pid == os.getpid() or alive(pid):
+            continue
+        if entry.is_dir() and not entry.is_symlink():
+            shutil.rmtree(entry, ignore_errors=True)
+        else:
+            entry.unlink(missing_ok=True)
+
+
+@contextmanager
+def lock(target):
+    """Hold the lock of output ``target`` (a file or directory path) while writing it."""
+    target = Path(target)
+    parent = target.parent if str(target.parent) else Path(".")
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise BuildOptionError(f"{target}: cannot write there ({error.strerror})") from None
+    path = parent / f".{target.name}{MARK}{os.getpid()}.lock"
+    claim = parent / f".{target.name}.crankbook.lock"
+    for _ in range(2):
+        try:
+            descriptor = os.open(claim, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+        except FileExistsError:
+            try:
+                holder = int(claim.read_text().strip() or 0)
+            except (OSError, ValueError):
+                holder = 0
+            if holder and alive(holder):
+                raise BuildCancelled(f"{target}: another crankbook run (process {holder}) is "
+                                     f"writing it; wait for it to finish") from None
+            claim.unlink(missing_ok=True)             # a killed run's lock: take it over
+            continue
+        except OSError as error:
+            raise BuildOptionError(f"{target}: cannot write there ({error.strerror})") from None
+        with os.fdopen(descriptor, "w") as handle:
+            handle.write(str(os.getpid()))
+        break
+    else:
+        raise BuildCancelled(f"{target}: another crankbook run is writing it")
+    try:
+        sweep(parent, target.name)
+        yield
+    finally:
+        claim.unlink(missing_ok=True)
+        path.unlink(missing_ok=True)
+
+
+@contextmanager
+def staged_directory(target, replace=False):
+    """Yield a hidden directory beside ``target``; on success it becomes ``target``.
+
+    ``replace``: an existing ``target`` is replaced (after the new one is complete);
+    otherwise an existing non-empty ``target`` is refused.
+    """
+    target = Path(target)
+    if target.exists() and not target.is_dir():
+        raise BuildOptionError(f"-o {target}: is a file; give a directory")
+    if target.exists() and not replace and any(target.iterdir()):
+        raise BuildOptionError(f"-o {target}: exists and is not empty; give a new directory")
+    with lock(target):
+        parent = target.parent if str(target.parent) else Path(".")
+        staging = Path(tempfile.mkdtemp(prefix=f".{target.name}{MARK}{os.getpid()}-",
+                                        dir=parent))
+        try:
+            yield staging
+            old = None
+            if target.exists():
+                old = parent / f".{target.name}{MARK}{os.getpid()}-old"
+                os.replace(target, old)
+            os.replace(staging, target)
+            if old is not None:
+                shutil.rmtree(old, ignore_errors=True)
+        finally:
+            if staging.exists():
+                shutil.rmtree(staging, ignore_errors=True)
+
+
+def temporary_name(path):
+    """A hidden temporary name beside ``path`` that carries this process's id."""
+    path = Path(path)
+    return path.parent / f".{path.name}{MARK}{os.getpid()}.tmp"
