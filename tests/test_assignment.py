@@ -1,9 +1,11 @@
-"""Class packs: a simulated class through assign and grade, with answers made from the
-answer keys (read from the key files, not from the grader's recomputation), asserting
-the exact scores the rubric gives; no answer leaks; bad input."""
+"""Class packs as a teacher meets them: a Chinese class from a GBK roster, answers
+typed in the guide's order (made from the key workbooks' own names, not from the
+grader's code), the exact scores the rubric gives, feedback in the class's
+language, resubmission, no answer leaks, bad rosters, hostile files."""
 import csv
 import hashlib
 import io
+import math
 import shutil
 import zipfile
 
@@ -11,18 +13,21 @@ import numpy as np
 import openpyxl
 import pytest
 
-from crankbook.calc import mechanism
-from tests.conftest import run_cli
 from crankbook import recalc
 from crankbook.assignment import template as templates
-from tests.conftest import named
+from crankbook.assignment.scoring import score_cell
+from crankbook.calc import mechanism
+from tests.conftest import named, run_cli
 
-ROSTER = [f"s{n:02d}" for n in range(1, 13)]
+ROSTER = [f"s{n:02d}" for n in range(1, 14)]
+NAMES = {sid: f"学生{n}号" for n, sid in enumerate(ROSTER, start=1)}
 ASSIGNMENT = templates.load("course-design")
+POSITION_ITEMS = [k for s in ASSIGNMENT.sheets if s.rows == "positions" for k in s.items]
 
 
-def write_roster(path, ids):
-    path.write_text("student_id,name,group\n" + "".join(f"{i},Student {i},G1\n" for i in ids))
+def write_roster(path, ids, encoding="gbk", headers=("学号", "姓名", "班级")):
+    text = ",".join(headers) + "\r\n" + "".join(f"{i},{NAMES.get(i, i)},机械1班\r\n" for i in ids)
+    path.write_bytes(text.encode(encoding))
 
 
 @pytest.fixture(scope="module")
@@ -31,15 +36,30 @@ def pack(tmp_path_factory):
     roster = tmp / "roster.csv"
     write_roster(roster, ROSTER)
     done = run_cli("assign", "--preset", "course-design", "--roster", roster, "--seed", "7",
-                   "-o", tmp / "class")
+                   "--lang", "zh", "-o", tmp / "class")
     assert done.returncode == 0, done.stderr
     return tmp / "class"
 
 
-def key_values(pack, sid):
-    """The answer key's values for every item, read from the key workbook's q_ names."""
+def guide_order(names):
+    """Rows of the key's angle-sorted position table in the guide's order: A0…A11, the
+    lowest position, the two maximum-speed positions, then the same + 360°."""
+    raw = np.asarray(names["q_raw_crank_angle"], float)
+    grid = np.asarray(names["q_pos_crank_angle"], float)
+    wanted = np.concatenate([raw, raw + 360.0])
+    return [int(np.argmin(np.abs(grid - a))) for a in wanted]
+
+
+def key_answers(pack, sid, order="guide"):
+    """What a student following the statement types: the key workbook's values, the
+    position tables row by row in the guide's order (or the key's own order)."""
     names = named(pack / "keys" / f"{sid}.xlsx")
-    return {item.key: names[f"q_{item.key}"] for item in ASSIGNMENT.items}
+    rows = guide_order(names) if order == "guide" else list(range(30))
+    out = {}
+    for item in ASSIGNMENT.items:
+        value = names[f"q_{item.key}"]
+        out[item.key] = [value[i] for i in rows] if item.key in POSITION_ITEMS else value
+    return out
 
 
 def fill(source, target, answers, formulas=False, edit_parameters=None):
@@ -47,8 +67,7 @@ def fill(source, target, answers, formulas=False, edit_parameters=None):
     for key, value in answers.items():
         sheet, ref = next(iter(book.defined_names[f"a_{key}"].destinations))
         block = book[sheet][ref.replace("$", "")]
-        cells = [c for row in block for c in (row if isinstance(row, tuple) else (row,))] \
-            if isinstance(block, tuple) else [block]
+        cells = [c for row in block for c in row] if isinstance(block, tuple) else [block]
         values = value if isinstance(value, list) else [value]
         for cell, v in zip(cells, values):
             cell.value = (f"={v!r}*1" if formulas else v) if v is not None else None
@@ -66,17 +85,24 @@ def scaled(answers, key, factor):
     return out
 
 
+def read_gradebook(results):
+    with open(results / "gradebook.csv", newline="", encoding="utf-8-sig") as handle:
+        rows = list(csv.DictReader(handle))
+    return {r["student_id"]: r for r in rows if r["student_id"]}, rows
+
+
 @pytest.fixture(scope="module")
 def graded(pack, tmp_path_factory, soffice):
     subs = tmp_path_factory.mktemp("submissions")
     student = pack / "students"
-    perfect = {sid: key_values(pack, sid) for sid in ROSTER}
-    # s01 perfect; s02 blank; s03 within tolerance; s04 unit slip; s05 sign slip
+    perfect = {sid: key_answers(pack, sid) for sid in ROSTER}
+    # s01 perfect, in a nested LMS folder; s02 blank; s03 within tolerance
     fill(student / "s01.xlsx", subs / "lms" / "s01_attempt1" / "course.xlsx", perfect["s01"])
     shutil.copy(student / "s02.xlsx", subs / "s02.xlsx")
     fill(student / "s03.xlsx", subs / "S-s03.xlsx",
          {k: ([x * 1.004 for x in v] if isinstance(v, list) else v * 1.004)
           for k, v in perfect["s03"].items()})
+    # s04 the slider velocity in mm/s; s05 the balancing torque with its sign flipped
     fill(student / "s04.xlsx", subs / "s04.xlsx",
          scaled(perfect["s04"], "pos_slider_velocity", 1000.0))
     fill(student / "s05.xlsx", subs / "s05.xlsx",
@@ -92,6 +118,8 @@ def graded(pack, tmp_path_factory, soffice):
     # s10 corrupt; s11 missing; s12 typed formulas, saved without values (LibreOffice recalcs)
     (subs / "s10.xlsx").write_bytes(b"PK\x03\x04 this is not a workbook")
     fill(student / "s12.xlsx", subs / "s12.xlsx", perfect["s12"], formulas=True)
+    # s13 lists the positions sorted by angle instead of in the guide's order
+    fill(student / "s13.xlsx", subs / "s13.xlsx", key_answers(pack, "s13", order="key"))
     # a file nobody can be matched to, with a hostile name and id
     stranger = subs / "+cmd.xlsx"
     fill(student / "s01.xlsx", stranger, {})
@@ -102,99 +130,94 @@ def graded(pack, tmp_path_factory, soffice):
     results = subs.parent / "results"
     done = run_cli("grade", pack, subs, "-o", results)
     assert done.returncode == 0, done.stderr
-    with open(results / "gradebook.csv", newline="", encoding="utf-8") as handle:
-        rows = list(csv.DictReader(handle))
-    return {"rows": rows, "by_id": {r["student_id"]: r for r in rows if r["student_id"]},
-            "results": results, "perfect": perfect}
+    by_id, rows = read_gradebook(results)
+    return {"rows": rows, "by_id": by_id, "results": results, "perfect": perfect,
+            "subs": subs}
 
 
 def consequential_answers(pack, sid):
-    """s06's answers: synthesis 10 % off in r and l, the rest recomputed with their own r, l."""
-    from crankbook import evaluate, params
-    spec, _, _ = params.load_preset("course-design")
+    """s06's answers: r and l 10 % off, the rest computed with their own r and l."""
+    from crankbook import params
+    from crankbook.assignment.grade import manifest_values
+    from crankbook.assignment.key import expected, key_results
+    spec, _, preset = params.load_preset("course-design")
     with open(pack / "manifest.csv", newline="", encoding="utf-8") as handle:
         row = next(r for r in csv.DictReader(handle) if r["student_id"] == sid)
-    values = params.validate(spec, {p.key: float(row[f"p_{p.key}"]) for p in spec.parameters})
-    true = evaluate.evaluate(spec, values, {}, evaluate.crank_angle_grid(spec))
-    own = evaluate.evaluate(spec, values, {}, evaluate.crank_angle_grid(spec), overrides={
-        "crank_radius": true["crank_radius"] * 1.1, "rod_length": true["rod_length"] * 1.1})
-    return {item.key: (own[item.key].tolist() if np.ndim(own[item.key]) else float(own[item.key]))
-            for item in ASSIGNMENT.items}
+    key = key_results(ASSIGNMENT, spec, preset, manifest_values(spec, row))
+    own = expected(ASSIGNMENT, spec, key, overrides={
+        "crank_radius": key.results["crank_radius"] * 1.1,
+        "rod_length": key.results["rod_length"] * 1.1})
+    return {k: (v["value"].tolist() if k in POSITION_ITEMS else float(v["value"][0]))
+            for k, v in own.items()}
 
 
 def score(graded, sid):
     return float(graded["by_id"][sid]["score"])
 
 
+def item_points(graded, sid, key):
+    row = graded["by_id"][sid]
+    column = next(c for c in row if c.endswith(f"(a_{key})"))
+    return float(row[column])
+
+
 def test_class_statuses(graded):
-    by_id = graded["by_id"]
-    assert by_id["s10"]["status"] == "unreadable"
-    assert by_id["s11"]["status"] == "missing"
-    for sid in ("s01", "s02", "s03", "s04", "s05", "s06", "s07", "s08", "s09", "s12"):
-        assert by_id[sid]["status"] == "graded", sid
-    assert [r for r in graded["rows"] if r["status"] == "unmatched"]
+    statuses = {sid: r["status"] for sid, r in graded["by_id"].items()}
+    assert statuses["s10"] == "unreadable" and statuses["s11"] == "missing"
+    assert all(statuses[s] == "graded" for s in ROSTER if s not in ("s10", "s11"))
+    unmatched = [r for r in graded["rows"] if r["status"] == "unmatched"]
+    assert len(unmatched) == 1 and "+cmd.xlsx" in unmatched[0]["notes"]
 
 
-def test_perfect_and_within_tolerance_get_full_marks(graded):
+def test_answers_in_the_guides_order_or_any_order_score_full(graded):
     assert score(graded, "s01") == 100.0
-    assert score(graded, "s03") == 100.0
-    assert score(graded, "s08") == 100.0
+    assert score(graded, "s13") == 100.0          # sorted by angle: paired through the angles
+    assert score(graded, "s03") == 100.0          # within the 1 % tolerance
 
 
 def test_blank_scores_zero_and_is_flagged(graded):
-    assert score(graded, "s02") == 0.0
-    assert graded["by_id"]["s02"]["flags"] == "blank"
+    assert score(graded, "s02") == 0.0 and "blank" in graded["by_id"]["s02"]["flags"]
 
 
 def test_unit_slip_earns_half_of_the_item(graded):
-    velocity = np.asarray(graded["perfect"]["s04"]["pos_slider_velocity"])
-    item = ASSIGNMENT.item["pos_slider_velocity"]
-    # at the highest and lowest positions v = 0, and 0 × 1000 is still right
-    still_right = np.sum(np.abs(velocity * 1000 - velocity) <= item.abs_floor)
-    expected = item.points * (still_right + 0.5 * (velocity.size - still_right)) / velocity.size
-    assert float(graded["by_id"]["s04"]["pos_slider_velocity"]) == pytest.approx(expected,
-                                                                                abs=0.01)
+    key = "pos_slider_velocity"
+    points = item_points(graded, "s04", key)
+    item = ASSIGNMENT.item[key]
+    # cells where the velocity is zero (dead centres) are right anyway (0 × 1000 = 0)
+    zero = sum(abs(v) <= item.abs_floor for v in graded["perfect"]["s04"][key])
+    expected = item.points * (zero + 0.5 * (30 - zero)) / 30
+    assert points == pytest.approx(expected, abs=0.01)
     assert score(graded, "s04") == pytest.approx(100 - item.points + expected, abs=0.02)
 
 
 def test_sign_slip_earns_half_of_the_item(graded):
-    torque = np.asarray(graded["perfect"]["s05"]["pos_balancing_torque"])
-    # cells whose expected value is within the item's floor stay right when negated
-    item = ASSIGNMENT.item["pos_balancing_torque"]
-    tiny = np.sum(np.abs(torque) <= item.abs_floor)
-    expected = item.points * (tiny + 0.5 * (torque.size - tiny)) / torque.size
-    assert float(graded["by_id"]["s05"]["pos_balancing_torque"]) == pytest.approx(expected,
-                                                                                  abs=0.01)
+    key = "pos_balancing_torque"
+    item = ASSIGNMENT.item[key]
+    credit = []
+    for v in graded["perfect"]["s05"][key]:
+        if abs(2 * v) <= max(item.tolerance * abs(v), item.abs_floor):
+            credit.append(1.0)                    # −v is v within the tolerance
+        elif abs(v) > 3 * item.abs_floor:
+            credit.append(0.5)                    # clearly non-zero: a sign slip
+        else:
+            credit.append(0.0)
+    expected = item.points * sum(credit) / 30
+    assert item_points(graded, "s05", key) == pytest.approx(expected, abs=0.01)
 
 
-def test_consequential_errors_earn_the_rubric_fraction(graded, pack):
+def test_consequential_errors_earn_the_rubric_fraction(graded):
     row = graded["by_id"]["s06"]
-    assert float(row["crank_radius"]) == 0 and float(row["rod_length"]) == 0
-    assert float(row["extreme_angle"]) == 3.0                 # θ does not depend on r, l
-    own = consequential_answers(pack, "s06")
-    true = graded["perfect"]["s06"]
-    for item in ASSIGNMENT.items:
-        if item.key in ("crank_radius", "rod_length", "extreme_angle"):
-            continue
-        theirs = np.atleast_1d(own[item.key])
-        right = np.atleast_1d(np.asarray(true[item.key], dtype=float))
-        fractions = []
-        for i, value in enumerate(theirs):
-            ok = abs(value - right[i]) <= max(item.tolerance * abs(right[i]), item.abs_floor)
-            fractions.append(1.0 if ok else 0.8)
-        expected = item.points * np.mean(fractions)
-        if item.key != "flywheel_inertia":
-            assert float(row[item.key]) == pytest.approx(expected, abs=0.01), item.key
-    assert 50 < score(graded, "s06") < 90
+    assert item_points(graded, "s06", "crank_radius") == 0.0
+    assert item_points(graded, "s06", "extreme_angle") == 3.0      # independent of r and l
+    for key in ("pos_slider_velocity", "pos_balancing_torque", "flywheel_inertia"):
+        item = ASSIGNMENT.item[key]
+        assert item_points(graded, "s06", key) >= 0.8 * item.points - 1e-9, (key, row)
 
 
 def test_another_students_file_is_flagged(graded):
-    row = graded["by_id"]["s07"]
-    flags = row["flags"].split(";")
-    assert {"wrong-student", "parameters-changed", "duplicate"} <= set(flags)
-    assert "s08" in row["notes"] and "s07" in graded["by_id"]["s08"]["notes"]
-    assert "duplicate" in graded["by_id"]["s08"]["flags"].split(";")
-    assert score(graded, "s07") < 50
+    assert "wrong-student" in graded["by_id"]["s07"]["flags"]
+    assert "s08" in graded["by_id"]["s07"]["notes"]
+    assert "duplicate" in graded["by_id"]["s07"]["flags"]
 
 
 def test_edited_parameter_is_flagged_but_graded_against_the_assignment(graded):
@@ -207,30 +230,104 @@ def test_formulas_saved_without_values_are_recalculated(graded):
     assert score(graded, "s12") == 100.0
 
 
-def test_csv_outputs_cannot_execute(graded):
+def test_csv_outputs_cannot_execute_and_ids_stay_ids(graded):
     for name in ("gradebook.csv", "lms-import.csv"):
-        text = (graded["results"] / name).read_text(encoding="utf-8")
+        text = (graded["results"] / name).read_text(encoding="utf-8-sig")
         for row in csv.reader(io.StringIO(text)):
             for field in row:
                 assert not field.startswith(("=", "+", "-", "@")), (name, field)
-
-
-def test_feedback_and_class_report(graded):
-    feedback = (graded["results"] / "feedback" / "s04.md").read_text(encoding="utf-8")
-    assert "unit slip" in feedback and "a_pos_slider_velocity" in feedback
-    book = openpyxl.load_workbook(graded["results"] / "class-report.xlsx")
-    assert {"Items", "Totals", "Students"} <= set(book.sheetnames)
-    assert book["Items"]._charts and book["Totals"]._charts
     lms = list(csv.DictReader(io.StringIO((graded["results"] / "lms-import.csv")
                                           .read_text(encoding="utf-8"))))
     assert [r["identifier"] for r in lms] == ROSTER
+
+
+def test_missing_students_are_blank_in_the_lms_import(graded):
+    lms = {r["identifier"]: r for r in csv.DictReader(io.StringIO(
+        (graded["results"] / "lms-import.csv").read_text(encoding="utf-8")))}
+    assert lms["s11"]["grade"] == "" and lms["s10"]["grade"] == ""
+    assert graded["by_id"]["s11"]["status"] == "missing" and graded["by_id"]["s11"]["score"] == ""
+    assert float(lms["s01"]["grade"]) == 100.0
+
+
+def test_a_chinese_class_gets_chinese_feedback_and_report(graded):
+    feedback = (graded["results"] / "feedback" / "s04.md").read_text(encoding="utf-8")
+    assert "得分" in feedback and "单位换算错误" in feedback and "滑块速度 v_B" in feedback
+    assert "a_pos_" not in feedback and "unit slip" not in feedback
+    assert "学生4号" in feedback
+    book = openpyxl.load_workbook(graded["results"] / "class-report.xlsx")
+    assert {"各题", "总分分布", "学生"} <= set(book.sheetnames)
+    assert book["各题"]._charts and book["总分分布"]._charts
+    assert book["各题"]["A4"].value == "极位夹角 θ"
+    counts = [book["总分分布"].cell(row=r, column=3).value for r in range(4, 14)]
+    assert all(isinstance(c, int) or float(c).is_integer() for c in counts)
+    assert sum(counts) == 11                       # the graded students
+
+
+@pytest.mark.parametrize("mode", ["score-only", "hints"])
+def test_feedback_can_keep_the_key_hidden(graded, pack, tmp_path, mode):
+    done = run_cli("grade", pack, graded["subs"], "-o", tmp_path / mode, "--feedback", mode)
+    assert done.returncode == 0, done.stderr
+    text = (tmp_path / mode / "feedback" / "s04.md").read_text(encoding="utf-8")
+    assert "参考答案" not in text
+    names = named(pack / "keys" / "s04.xlsx")
+    for secret in names["q_pos_slider_velocity"][1:5] + [names["q_crank_radius"]]:
+        assert f"{secret:.6g}" not in text
+    if mode == "hints":
+        assert "单位换算错误" in text          # says what is wrong and why
+    else:
+        assert "|" not in text
+
+
+def test_a_resubmission_round_keeps_the_best_or_latest(graded, pack, tmp_path):
+    second = tmp_path / "round2"
+    fill(pack / "students" / "s04.xlsx", second / "s04.xlsx", graded["perfect"]["s04"])
+    shutil.copy(pack / "students" / "s05.xlsx", second / "s05.xlsx")     # blank this time
+    for keep in ("best", "latest"):
+        done = run_cli("grade", pack, second, "-o", tmp_path / keep, "--previous",
+                       graded["results"], "--keep", keep)
+        assert done.returncode == 0, done.stderr
+        rows, _ = read_gradebook(tmp_path / keep)
+        assert float(rows["s04"]["score"]) == 100.0
+        assert float(rows["s01"]["score"]) == 100.0 and "沿用" in rows["s01"]["notes"]
+        first = score(graded, "s05")
+        assert float(rows["s05"]["score"]) == (first if keep == "best" else 0.0)
+
+
+def test_the_statement_and_the_key_agree_on_the_resisting_torque(graded, pack):
+    """M_r is the mean of M_d = −M_b, positive for an engine: the statement says so."""
+    names = named(pack / "keys" / "s01.xlsx")
+    driving = -np.asarray(names["q_pos_balancing_torque"])
+    assert names["q_pos_resisting_torque"] > 0
+    assert item_points(graded, "s01", "pos_resisting_torque") == 2.0
+    assert "M_d = −M_b" in ASSIGNMENT.statement_en and "M_r > 0" in ASSIGNMENT.statement_en
+    closed = np.append(driving, driving[0])
+    angles = np.append(names["q_pos_crank_angle"], 720.0)
+    trapezoids = np.sum((closed[1:] + closed[:-1]) / 2 * np.diff(angles))
+    assert names["q_pos_resisting_torque"] == pytest.approx(trapezoids / 720, rel=1e-9)
+
+
+@pytest.mark.parametrize("value,expected,unit,floor,reason", [
+    (-7.79536, 1.50555e-15, "N·m", 1.0, "wrong"),        # near zero: no ×1000 credit
+    (100 * 180 / math.pi, 100.0, "N·m", 1.0, "wrong"),   # no angle slip on a torque
+    (100 * 180 / math.pi, 100.0, "rad/s", 0.01, "wrong"),
+    (100 * 30 / math.pi, 100.0, "rad/s", 0.01, "unit_slip"),   # rad/s given as rpm
+    (0.1, 100.0, "mm", 0.05, "unit_slip"),                # mm given in m
+    (-100.0, 100.0, "N·m", 1.0, "sign_slip"),
+    (-2.0, 2.0, "N·m", 1.0, "wrong"),                    # not clearly non-zero: no sign slip
+    ("１００", 100.0, "mm", 0.05, "not_a_number"),       # full-width digits
+    ("100,0", 100.0, "mm", 0.05, "correct"),             # a decimal comma
+])
+def test_slips_follow_the_items_dimension(value, expected, unit, floor, reason):
+    item = templates.Item(key="x", points=1, tolerance=0.01, zh="x", en="x", unit=unit,
+                          abs_floor=floor)
+    assert score_cell("", value, expected, item, ASSIGNMENT.rubric).reason == reason
 
 
 def test_synthesis_key_matches_an_independent_synthesis(pack):
     with open(pack / "manifest.csv", newline="", encoding="utf-8") as handle:
         rows = list(csv.DictReader(handle))
     for row in rows:
-        values = key_values(pack, row["student_id"])
+        values = key_answers(pack, row["student_id"])
         H, e, K = (float(row[f"p_{k}"]) / s for k, s in
                    (("stroke", 1000), ("offset", 1000), ("time_ratio", 1)))
         assert values["crank_radius"] == pytest.approx(
@@ -242,7 +339,8 @@ def test_synthesis_key_matches_an_independent_synthesis(pack):
 def test_variants_are_distinct_valid_and_printable(pack):
     with open(pack / "manifest.csv", newline="", encoding="utf-8") as handle:
         rows = list(csv.DictReader(handle))
-    assert [r["student_id"] for r in rows] == ROSTER and rows[0]["group"] == "G1"
+    assert [r["student_id"] for r in rows] == ROSTER and rows[0]["班级"] == "机械1班"
+    assert rows[0]["name"] == "学生1号"
     assert len({r["fingerprint"] for r in rows}) == len(rows)
     for row in rows:
         assert float(row["p_stroke"]) % 10 == 0 and float(row["p_offset"]).is_integer()
@@ -258,16 +356,29 @@ def test_no_answer_leaks_into_student_files(pack):
         with zipfile.ZipFile(pack / "students" / f"{sid}.xlsx") as archive:
             blob = b"".join(archive.read(n) for n in archive.namelist())
         assert b"<f>" not in blob, "student files carry no formulas"
-        values = key_values(pack, sid)
+        values = key_answers(pack, sid)
         secrets = [values["crank_radius"], values["rod_length"], values["extreme_angle"],
                    values["flywheel_inertia"], values["pos_resisting_torque"],
-                   *values["pos_balancing_torque"][1:6], *values["pos_slider_velocity"][1:6]]
+                   *values["pos_balancing_torque"][1:6], *values["pos_slider_velocity"][1:6],
+                   *values["pos_crank_angle"][12:15]]
         for secret in secrets:
             for text in (repr(float(secret)), f"{secret:.10g}", f"{secret:.8g}"):
                 assert text.encode() not in blob, (sid, text)
         book = openpyxl.load_workbook(pack / "students" / f"{sid}.xlsx")
         assert all(n.startswith(("p_", "a_", "s_")) for n in book.defined_names)
         assert all(ws.sheet_state == "visible" for ws in book.worksheets)
+
+
+def test_the_student_workbook_asks_everything_the_statement_asks(pack):
+    book = openpyxl.load_workbook(pack / "students" / "s01.xlsx")
+    for item in ASSIGNMENT.items:
+        assert f"a_{item.key}" in book.defined_names, item.key
+    assert {"a_min_transmission_angle", "a_pos_energy_swing"} <= set(book.defined_names)
+    sheet, ref = next(iter(book.defined_names["a_pos_slider_velocity"].destinations))
+    labels = [book[sheet].cell(row=r, column=1).value for r in range(6, 36)]
+    assert labels[0] == "A0" and labels[12].startswith("A12") and labels[15] == "A0′"
+    headers = " ".join(str(c.value) for c in book[sheet][4] if c.value)
+    assert "滑块速度 v_B" in headers and "√" not in headers and "细网格" not in headers
 
 
 def test_same_roster_and_seed_give_identical_files(pack, tmp_path):
@@ -280,16 +391,47 @@ def test_same_roster_and_seed_give_identical_files(pack, tmp_path):
         digests.append({p.relative_to(tmp_path / out): hashlib.sha256(p.read_bytes()).hexdigest()
                         for p in sorted((tmp_path / out).rglob("*")) if p.is_file()})
     assert digests[0] == digests[1]
-    # and the same students get the same parameters as in the full class
     with open(tmp_path / "a" / "manifest.csv", encoding="utf-8") as a, \
             open(pack / "manifest.csv", encoding="utf-8") as b:
         assert list(csv.DictReader(a)) == list(csv.DictReader(b))[:3]
 
 
+@pytest.mark.parametrize("encoding,headers", [
+    ("utf-8-sig", ("student_id", "name", "group")),
+    ("utf-16", ("学号", "姓名", "班级")),
+    ("gb18030", ("ID", "Name", "班")),
+])
+def test_rosters_as_excel_saves_them(tmp_path, encoding, headers):
+    roster = tmp_path / "r.csv"
+    write_roster(roster, ["a1", "张三-2"], encoding=encoding, headers=headers)
+    if encoding == "utf-16":
+        roster.write_text(roster.read_text(encoding="utf-16").replace(",", "\t"),
+                          encoding="utf-16")
+    done = run_cli("assign", "--roster", roster, "-o", tmp_path / "out")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "out" / "students" / "张三-2.xlsx").is_file()
+
+
+def test_an_xlsx_roster(tmp_path):
+    book = openpyxl.Workbook()
+    book.active.append(["学号", "姓名"])
+    book.active.append([20240101, "李四"])
+    book.save(tmp_path / "r.xlsx")
+    done = run_cli("assign", "--roster", tmp_path / "r.xlsx", "-o", tmp_path / "out")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "out" / "students" / "20240101.xlsx").is_file()
+
+
 @pytest.mark.parametrize("roster,expected", [
-    ("student_id,name\na1,A\na1,B\n", "duplicate student_id 'a1'"),
-    ("student_id,name\n,A\n", "empty student_id"),
-    ("id,name\na1,A\n", "needs a 'student_id' column"),
+    ("student_id,name\na1,A\na1,B\n", "row 3: student id 'a1' is also in row 2"),
+    ("student_id,name\n,A\n", "row 2: student id '' is empty"),
+    ("code,name\na1,A\n", "needs a student_id/学号 column"),
+    ("student_id,name\na1,A,extra\n", "row 2: 3 cells but the header has 2 columns"),
+    ("student_id,name\n../x,A\n", "starts with '.'"),
+    ("student_id,name\na/b,A\n", "holds '/'"),
+    ("student_id,name\n-rf,A\n", "starts with '-'"),
+    ("student_id,name\n=cmd,A\n", "starts with '='"),
+    ("student_id,name\na\x01b,A\n", "holds '\\x01'"),
 ])
 def test_bad_rosters_are_refused(tmp_path, roster, expected):
     path = tmp_path / "r.csv"
@@ -298,6 +440,7 @@ def test_bad_rosters_are_refused(tmp_path, roster, expected):
     assert done.returncode == 2 and expected in done.stderr, done.stderr
     assert len(done.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "out").exists()
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
 
 
 def test_unknown_preset_and_foreign_directory_are_refused(tmp_path):
@@ -313,8 +456,8 @@ def test_unknown_preset_and_foreign_directory_are_refused(tmp_path):
 
 def test_second_assignment_on_the_engine_workbook(tmp_path):
     roster = tmp_path / "roster.csv"
-    write_roster(roster, ["e1", "e2"])
-    assert run_cli("assign", "--preset", "thesis", "--roster", roster, "-o",
+    write_roster(roster, ["e1", "e2"], encoding="utf-8", headers=("id", "name", "g"))
+    assert run_cli("assign", "--preset", "thesis", "--roster", roster, "--lang", "en", "-o",
                    tmp_path / "eng").returncode == 0
     names = named(tmp_path / "eng" / "keys" / "e1.xlsx")
     angles = [30.0, 60.0, 90.0, 135.0, 180.0, 390.0, 450.0]
@@ -325,9 +468,10 @@ def test_second_assignment_on_the_engine_workbook(tmp_path):
     fill(tmp_path / "eng" / "students" / "e1.xlsx", tmp_path / "subs" / "e1.xlsx", answers)
     done = run_cli("grade", tmp_path / "eng", tmp_path / "subs", "-o", tmp_path / "res")
     assert done.returncode == 0, done.stderr
-    rows = {r["student_id"]: r for r in csv.DictReader(open(tmp_path / "res" / "gradebook.csv",
-                                                            encoding="utf-8"))}
+    rows, _ = read_gradebook(tmp_path / "res")
     assert float(rows["e1"]["score"]) == 100.0 and rows["e2"]["status"] == "missing"
+    feedback = (tmp_path / "res" / "feedback" / "e1.md").read_text(encoding="utf-8")
+    assert "Score: **100 / 100**" in feedback
 
 
 def _rezip(source, target, change):
@@ -349,18 +493,20 @@ def test_hostile_files_are_unreadable_and_the_batch_goes_on(pack, tmp_path):
            lambda items: items.update({"xl/media/huge.bin": b"\0" * (20 * 2**20)}))
     bomb = ('<?xml version="1.0"?><!DOCTYPE lolz [<!ENTITY lol "lol">'
             '<!ENTITY lol2 "&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;">]>'
-            '<lolz>&lol2;</lolz>').encode()
+            '<lolz>&lol2;</lolz>')
     _rezip(student / "s04.xlsx", subs / "s04.xlsx",
-           lambda items: items.update({"docProps/custom.xml": bomb}))
-    fill(student / "s05.xlsx", subs / "s05.xlsx", key_values(pack, "s05"), formulas=True)
+           lambda items: items.update({"docProps/custom.xml": bomb.encode("utf-16")}))
+    _rezip(student / "s06.xlsx", subs / "s06.xlsx",
+           lambda items: items.update({"xl/macros/code.bin": b"\xd0\xcf\x11\xe0" + b"\0" * 64}))
+    fill(student / "s05.xlsx", subs / "s05.xlsx", key_answers(pack, "s05"), formulas=True)
     saved = recalc.convert([subs / "s05.xlsx"], tmp_path / "lo")[0]   # saved through LibreOffice
     shutil.move(saved, subs / "s05.xlsx")
     done = run_cli("grade", pack, subs, "-o", tmp_path / "res")
     assert done.returncode == 0, done.stderr
-    rows = {r["student_id"]: r for r in csv.DictReader(
-        open(tmp_path / "res" / "gradebook.csv", encoding="utf-8")) if r["student_id"]}
+    rows, _ = read_gradebook(tmp_path / "res")
     assert rows["s01"]["status"] == "unreadable" and "password-protected" in rows["s01"]["notes"]
     assert rows["s02"]["status"] == "unreadable" and "macro" in rows["s02"]["notes"]
     assert rows["s03"]["status"] == "unreadable" and "zip bomb" in rows["s03"]["notes"]
     assert rows["s04"]["status"] == "unreadable" and "entit" in rows["s04"]["notes"]
+    assert rows["s06"]["status"] == "unreadable" and "macro" in rows["s06"]["notes"]
     assert rows["s05"]["status"] == "graded" and float(rows["s05"]["score"]) == 100.0

@@ -76,8 +76,10 @@ def _build_parser():
                     "(reproducible for the same roster and --seed), and write "
                     "DIR/students/<id>.xlsx, DIR/keys/<id>.xlsx and DIR/manifest.csv.")
     assign.add_argument("--preset", default="course-design")
-    assign.add_argument("--roster", required=True, metavar="ROSTER.csv",
-                        help="CSV with at least student_id,name (other columns are kept)")
+    assign.add_argument("--roster", required=True, metavar="ROSTER",
+                        help="the class list: .csv (UTF-8, GBK or UTF-16, as Excel saves it) or "
+                             ".xlsx, with an id column (student_id, id or 学号) and a name "
+                             "column (name or 姓名); other columns are kept")
     assign.add_argument("--seed", type=int, default=1, help="variant seed (default 1)")
     assign.add_argument("--lang", choices=LANGS, default="zh")
     assign.add_argument("-o", "--output", required=True, metavar="DIR")
@@ -90,7 +92,20 @@ def _build_parser():
     grade.add_argument("directory", metavar="DIR")
     grade.add_argument("submissions", metavar="SUBMISSIONS")
     grade.add_argument("-o", "--output", metavar="RESULTS",
-                       help="results directory (default: DIR/results)")
+                       help="results directory (default: DIR/results); replaced whole when "
+                            "the new results are complete")
+    grade.add_argument("--feedback", choices=("full", "hints", "score-only"), default="full",
+                       help="what feedback files show: full (with the expected values), hints "
+                            "(which items and cells are wrong and why, without the expected "
+                            "values: for a resubmission round) or score-only")
+    grade.add_argument("--previous", metavar="RESULTS",
+                       help="an earlier round's results directory: a resubmission round")
+    grade.add_argument("--keep", choices=("latest", "best"), default="latest",
+                       help="with --previous: keep the latest score (default) or the better of "
+                            "the two; a student who did not resubmit keeps the earlier score")
+    grade.add_argument("--missing-as-zero", action="store_true",
+                       help="write 0 for missing and unreadable students in the gradebook and "
+                            "LMS import (default: blank, which an LMS reads as no submission)")
 
     commands.add_parser("presets", help="list the presets")
     params_cmd = commands.add_parser("parameters", help="list the parameters of a preset")
@@ -211,7 +226,9 @@ def _grade(args):
     from crankbook.assignment.grade import grade
 
     started = time.perf_counter()
-    summary = grade(args.directory, args.submissions, args.output)
+    summary = grade(args.directory, args.submissions, args.output, feedback=args.feedback,
+                    previous=args.previous, keep=args.keep,
+                    missing_as_zero=args.missing_as_zero)
     print(f"graded {summary['graded']} of {summary['roster']} students "
           f"({summary['missing']} missing, {summary['unreadable']} unreadable, "
           f"{summary['unmatched']} files matching nobody) → {summary['output']} "
@@ -247,7 +264,13 @@ def _parameters(args):
     return 0
 
 
+def _terminate(signum, frame):
+    raise KeyboardInterrupt
+
+
 def main(argv=None):
+    import signal
+    signal.signal(signal.SIGTERM, _terminate)      # a kill cleans up like Ctrl-C
     args = _build_parser().parse_args(argv)
     handlers = {"build": _build, "verify": _verify, "audit": _audit, "assign": _assign,
                 "grade": _grade, "presets": _presets,

@@ -6,13 +6,13 @@ row (series formulas carry markers for the row, filled per cell by :func:`fill`)
 an item (per-item quantities) and the indices of enclosing {sum:…} placeholders.
 What each placeholder becomes is documented in templates/README.md.
 """
-import ast
 import re
 from dataclasses import dataclass, field, replace
 
 from xlsxwriter.utility import xl_col_to_name, xl_rowcol_to_cell
 
 from crankbook import units
+from crankbook.arithmetic import integer
 from crankbook.placeholders import Ref, Special, Sum
 from crankbook.spec import GUARD
 
@@ -42,28 +42,6 @@ def fill(template, row, index):
     if INDEX in text:
         text = text.replace(INDEX, str(index))
     return text
-
-
-def _integer(text):
-    """The value of a constant integer expression such as '1+1' (item(…) arguments), or
-    None for anything else."""
-    if not INTEGER_EXPRESSION.match(text):
-        return None
-    operators = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b,
-                 ast.Mult: lambda a, b: a * b}
-
-    def value(node):
-        if isinstance(node, ast.Constant) and isinstance(node.value, int):
-            return node.value
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
-            return -value(node.operand)
-        if isinstance(node, ast.BinOp) and type(node.op) in operators:
-            return operators[type(node.op)](value(node.left), value(node.right))
-        raise ValueError(node)
-    try:
-        return value(ast.parse(text, mode="eval").body)
-    except (SyntaxError, ValueError):
-        return None
 
 
 @dataclass(frozen=True)
@@ -207,7 +185,7 @@ class Locator:
         formula's own item; None when it means all items."""
         if node.part == "item":
             text = self.compile(node.argument, context).strip()
-            folded = _integer(text)
+            folded = integer(text) if INTEGER_EXPRESSION.match(text) else None
             return folded if folded is not None else text
         for sum_axis, index in reversed(context.sums):
             if sum_axis == axis:

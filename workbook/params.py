@@ -19,7 +19,7 @@ PRESETS = "presets"
 GROUPS = "groups"
 # Plain ASCII decimal numbers only: no full-width or Arabic-Indic digits, no 1_000,
 # no inf or nan (Python's float() takes all of those).
-NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?\Z")
+NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 
 
 def preset_names():

@@ -259,3 +259,28 @@ class XlsxBook:
 
     def close(self):
         self.zip.close()
+
+
+def sheet_rows(book, sheet=None, limit=100_000):
+    """All rows of a sheet (the first one by default) as lists of values, empty cells
+    None, trailing empty cells dropped."""
+    name = sheet or next((s for s in book.sheetnames if s not in book.chart_sheets), None)
+    if name is None:
+        raise Unreadable("the workbook has no sheet of cells")
+    cells = book._sheet(name)
+    if not cells:
+        return []
+    last_row = max(r for r, _ in cells)
+    if last_row > limit:
+        raise Unreadable(f"more than {limit} rows")
+    rows = [[] for _ in range(last_row)]
+    for (r, c), (value, _) in sorted(cells.items()):
+        if c > 1000:
+            continue
+        row = rows[r - 1]
+        row.extend([None] * (c - 1 - len(row)))
+        row.append(value)
+    for row in rows:
+        while row and (row[-1] is None or row[-1] == ""):
+            row.pop()
+    return rows

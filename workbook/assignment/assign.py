@@ -1,20 +1,25 @@
-"""`crankbook assign`: a workbook per student, the answer keys and a manifest."""
-import csv
+"""`crankbook assign`: a workbook per student, the answer keys and a manifest.
+
+The class directory is built in a hidden sibling and renamed into place when
+complete (a killed run leaves nothing the next run does not remove); the work is
+shared by worker processes that die with their parent.
+"""
 import json
 import os
-import shutil
 import sys
-import tempfile
+import time
 from concurrent.futures import ProcessPoolExecutor
+from functools import lru_cache
 from pathlib import Path
 
-from crankbook import __version__, evaluate, params
+from crankbook import __version__, params, resources
 from crankbook.assignment import template as templates
+from crankbook.assignment.key import answer_rows, given_trace, key_results
+from crankbook.assignment.roster import read_roster
 from crankbook.assignment.student_book import write_student_workbook
-from crankbook.assignment.variants import draw_class, fingerprint, read_roster
-from crankbook.errors import BuildOptionError
-from crankbook import resources
-from crankbook.api import results_for
+from crankbook.assignment.variants import draw_class, fingerprint
+from crankbook.csv_safety import csv_text
+from crankbook.workspace import staged_directory
 from crankbook.writer.build import write_workbook
 
 MANIFEST = "manifest.csv"
@@ -22,86 +27,76 @@ SETTINGS = "assignment.json"
 RUBRIC = "assignment.toml"
 
 
-def given_data(assignment, spec, values):
-    """The numbers a student is given (e.g. the cylinder pressure every degree)."""
-    if not assignment.given:
-        return {}
-    grid = evaluate.crank_angle_grid(spec, assignment.given_step) if assignment.given_step \
-        else expected_grid(assignment, spec)
-    out = evaluate.evaluate(spec, values, {}, grid)
-    return {key: [float(v) for v in out[key]] for key in assignment.given}
+def _die_with_parent():
+    """Worker initializer: be killed when the parent process dies (Linux)."""
+    try:
+        import ctypes
+        import signal
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)   # PR_SET_PDEATHSIG
+        if os.getppid() == 1:
+            os._exit(1)
+    except (OSError, AttributeError):
+        pass
 
 
-def expected_grid(assignment, spec, step=None):
-    if assignment.grid_angles is not None:
-        import numpy as np
-        return np.asarray(assignment.grid_angles, dtype=float)
-    return evaluate.crank_angle_grid(spec, step)
+@lru_cache(maxsize=None)
+def _setup(preset, assignment_key):
+    spec, _, meta = params.load_preset(preset)
+    return spec, meta, templates.load(assignment_key)
 
 
-def _write_student(job):
+def write_student(job):
     """Write one student's key and workbook (runs in a worker process)."""
     preset, assignment_key, row, drawn, lang, staging = job
-    spec, _, preset_meta = params.load_preset(preset)
-    assignment = templates.load(assignment_key)
+    spec, meta, assignment = _setup(preset, assignment_key)
     staging = Path(staging)
     sid = row["student_id"]
     values = params.validate(spec, dict(drawn))
-    key = results_for(spec, preset_meta, values)
+    key = key_results(assignment, spec, meta, values)
     write_workbook(key, lang, staging / "keys" / f"{sid}.xlsx")
-    expected = evaluate.evaluate(spec, values, {}, expected_grid(assignment, spec)) \
-        if assignment.grid_angles is not None else key.results
-    sizes = {g.key: len(expected[g.key]) for g in spec.grids}
+    trace = given_trace(assignment, spec, values)
+    given = {"crank_angle": trace[0], "pressure": trace[1]} if trace is not None else {}
     write_student_workbook(staging / "students" / f"{sid}.xlsx", assignment, spec, row, values,
-                           given_data(assignment, spec, values), lang, sizes)
+                           given, lang, answer_rows(assignment, lang, key.results))
     return sid
 
 
 def assign(preset, roster_path, seed, lang, outdir, progress=True):
-    spec, base, preset_meta = params.load_preset(preset)
+    started = time.perf_counter()
+    spec, base, _ = params.load_preset(preset)
     assignment = templates.for_preset(preset)
     rows, fields = read_roster(roster_path)
-    outdir = Path(outdir)
-    if outdir.exists() and not outdir.is_dir():
-        raise BuildOptionError(f"-o {outdir}: is a file; give a new directory")
-    if outdir.exists() and any(outdir.iterdir()):
-        raise BuildOptionError(f"-o {outdir}: exists and is not empty; give a new directory")
     ids = [r["student_id"] for r in rows]
+    if progress:
+        print(f"assign: drawing {len(ids)} parameter sets", file=sys.stderr, flush=True)
     variants = draw_class(assignment, spec, base, ids, seed)
     keys = [p.key for p in spec.parameters]
-    outdir.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{outdir.name}.", dir=outdir.parent))
-    try:
+    with staged_directory(outdir) as staging:
+        (staging / "keys").mkdir()
+        (staging / "students").mkdir()
         jobs = [(preset, assignment.key, row, variants[row["student_id"]], lang, str(staging))
                 for row in rows]
         workers = max(1, min(os.cpu_count() or 1, len(jobs)))
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            for number, _ in enumerate(pool.map(_write_student, jobs), start=1):
+        with ProcessPoolExecutor(max_workers=workers, initializer=_die_with_parent) as pool:
+            for number, _ in enumerate(pool.map(write_student, jobs, chunksize=2), start=1):
                 if progress:
-                    print(f"\rassign: {number}/{len(rows)} students", end="", file=sys.stderr,
-                          flush=True)
+                    rate = number / max(time.perf_counter() - started, 1e-9)
+                    left = (len(jobs) - number) / rate
+                    print(f"\rassign: {number}/{len(jobs)} students "
+                          f"(about {left:.0f} s left)   ", end="", file=sys.stderr, flush=True)
         if progress:
             print(file=sys.stderr)
         extra = [f for f in fields if f not in ("student_id", "name")]
-        with open(staging / MANIFEST, "w", newline="", encoding="utf-8") as handle:
-            writer = csv.writer(handle, lineterminator="\n")
-            writer.writerow(["student_id", "name", *extra, *[f"p_{k}" for k in keys],
-                             "fingerprint"])
-            for row in rows:
-                values = variants[row["student_id"]]
-                writer.writerow([row["student_id"], row["name"], *[row.get(f, "") for f in extra],
-                                 *[repr(float(values[k])) for k in keys],
-                                 fingerprint(values, keys)])
+        table = [["student_id", "name", *extra, *[f"p_{k}" for k in keys], "fingerprint"]]
+        for row in rows:
+            values = variants[row["student_id"]]
+            table.append([row["student_id"], row["name"], *[row.get(f, "") for f in extra],
+                          *[repr(float(values[k])) for k in keys], fingerprint(values, keys)])
+        (staging / MANIFEST).write_text(csv_text(table), encoding="utf-8", newline="")
         (staging / RUBRIC).write_text(resources.read_text(templates.ASSIGNMENTS,
                                                           f"{assignment.key}.toml"),
                                       encoding="utf-8")
         (staging / SETTINGS).write_text(json.dumps(
             {"assignment": assignment.key, "preset": preset, "seed": seed, "lang": lang,
              "crankbook": __version__}, indent=1) + "\n", encoding="utf-8")
-        if outdir.exists():
-            outdir.rmdir()
-        os.replace(staging, outdir)
-    finally:
-        if staging.exists():
-            shutil.rmtree(staging)
     return len(rows)

@@ -1,6 +1,9 @@
 """The student's workbook: the task, their parameters (p_), the given data, and
 empty answer blocks (a_) laid out like the guide's tables.  No formulas, no
 results: nothing the key computes is anywhere in the file."""
+import math
+import unicodedata
+
 import xlsxwriter
 from xlsxwriter.utility import xl_rowcol_to_cell
 
@@ -8,26 +11,43 @@ from crankbook.atomic import atomic_path
 from crankbook.formulas import quote_sheet
 from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.layout import unit_text
+from crankbook.writer.print_setup import landscape_page
 from crankbook.writer.styles import Styles
 
 TASK = {"zh": "任务", "en": "Task"}
 GIVEN = {"zh": "已知数据", "en": "Given data"}
+TASK_WIDTHS = [30, 16, 9, 48, 48]
+POINTS_PER_LINE = 14.5
 
 
-def _both(zh, en, lang):
+def both(zh, en, lang):
     return f"{zh} / {en}" if lang == "zh" else f"{en} / {zh}"
 
 
-def write_student_workbook(path, assignment, spec, student, values, given, lang, row_counts):
-    """Write atomically.  ``given``: key -> list of numbers; ``row_counts``: grid -> rows."""
+def display_width(text):
+    """Columns a text takes: CJK and full-width characters count two."""
+    return sum(2 if unicodedata.east_asian_width(c) in "WF" else 1 for c in text)
+
+
+def row_height(text, width_chars):
+    """Points of a wrapped cell holding ``text`` in a merged width of ``width_chars``."""
+    lines = sum(max(1, math.ceil(display_width(line) / max(width_chars - 2, 10)))
+                for line in text.split("\n"))
+    return min(409, lines * POINTS_PER_LINE + 6)
+
+
+def write_student_workbook(path, assignment, spec, student, values, given, lang, rows):
+    """Write atomically.  ``given``: {"crank_angle": [...], "pressure": [...]} or {} ;
+    ``rows``: answer-sheet row kind -> list of row labels."""
     with atomic_path(path) as temporary:
-        _write(temporary, assignment, spec, student, values, given, lang, row_counts)
+        _write(temporary, assignment, spec, student, values, given, lang, rows)
 
 
-def _write(filename, assignment, spec, student, values, given, lang, row_counts):
+def _write(filename, assignment, spec, student, values, given, lang, rows):
     book = xlsxwriter.Workbook(filename, {"in_memory": True, "strings_to_numbers": False,
-                                          "strings_to_formulas": False})
-    book.set_properties({"title": getattr(assignment, lang), "author": "crankbook",
+                                          "strings_to_formulas": False,
+                                          "strings_to_urls": False})
+    book.set_properties({"title": assignment.name(lang), "author": "crankbook",
                          "created": FIXED_TIME})
     styles = Styles(book)
     names = {}
@@ -38,98 +58,119 @@ def _write(filename, assignment, spec, student, values, given, lang, row_counts)
             f"{first}:{xl_rowcol_to_cell(last_row, col, True, True)}"
         names[name] = f"={quote_sheet(sheet)}!{ref}"
 
-    # ---- task: statement, identity, parameters
-    task = book.add_worksheet(TASK[lang])
-    task.set_column(0, 0, 30)
-    task.set_column(1, 1, 16)
-    task.set_column(2, 2, 8)
-    task.set_column(3, 4, 50)
-    task.write(0, 0, _both(assignment.zh, assignment.en, lang), styles.title)
-    task.write(2, 0, _both("学号", "Student id", lang), styles.group)
-    task.write_string(2, 1, student["student_id"], styles.key)
-    define("s_student_id", TASK[lang], 2, 1)
-    task.write(3, 0, _both("姓名", "Name", lang), styles.group)
-    task.write_string(3, 1, student["name"])
-    define("s_student_name", TASK[lang], 3, 1)
-    statement = assignment.statement_zh if lang == "zh" else assignment.statement_en
-    task.merge_range(5, 0, 5, 4, statement, styles.text)
-    task.set_row(5, 230)
-    row = 7
-    for col, text in enumerate([_both("键", "Key", lang), _both("数值", "Value", lang),
-                                _both("单位", "Unit", lang), "说明", "Description"]):
-        task.write(row, col, text, styles.header)
-    row += 1
-    for parameter in spec.parameters:
-        if parameter.group == "pressure":
-            continue                      # the pressure is given as a table instead
-        task.write(row, 0, parameter.key, styles.key)
-        task.write_number(row, 1, values[parameter.key])
-        task.write(row, 2, unit_text(parameter.unit))
-        task.write(row, 3, parameter.zh, styles.text)
-        task.write(row, 4, parameter.en, styles.text)
-        define(f"p_{parameter.key}", TASK[lang], row, 1)
-        row += 1
-    task.activate()
-
-    # ---- given data (e.g. the cylinder pressure every degree)
+    _task_sheet(book, assignment, spec, student, values, lang, styles, define)
     if given:
-        sheet = book.add_worksheet(GIVEN[lang])
-        sheet.write(0, 0, _both("已知数据（数值）", "Given data (numbers)", lang), styles.title)
-        for col, key in enumerate(given):
-            quantity = spec.quantity[key]
-            sheet.set_column(col, col, 18)
-            sheet.write(2, col, quantity.zh if lang == "zh" else quantity.en, styles.header)
-            sheet.write(3, col, f"[{unit_text(quantity.unit)}]", styles.unit)
-            for i, value in enumerate(given[key]):
-                sheet.write_number(4 + i, col, float(value))
-            define(f"p_given_{key}", GIVEN[lang], 4, col, 4 + len(given[key]) - 1)
-        sheet.freeze_panes(4, 0)
-
-    # ---- answer sheets
+        _given_sheet(book, given, lang, styles, define)
     answer = styles.number("-", "General", role="input")
-    for answer_sheet in assignment.sheets:
-        name = answer_sheet.zh if lang == "zh" else answer_sheet.en
-        ws = book.add_worksheet(name)
-        ws.write(0, 0, name, styles.title)
-        ws.write(1, 0, _both("在黄色单元格中填写答案（数值或公式）",
-                             "Type your answers into the yellow cells (numbers or formulas)",
-                             lang), styles.subtitle)
-        if answer_sheet.rows == "scalar":
-            ws.set_column(0, 0, 24)
-            ws.set_column(1, 1, 50)
-            ws.set_column(2, 3, 14)
-            for col, text in enumerate([_both("键", "Key", lang), _both("量", "Quantity", lang),
-                                        _both("答案", "Answer", lang), _both("单位", "Unit", lang)]):
-                ws.write(3, col, text, styles.header)
-            for i, key in enumerate(answer_sheet.items):
-                quantity = spec.quantity[key]
-                ws.write(4 + i, 0, f"a_{key}", styles.key)
-                ws.write(4 + i, 1, _both(quantity.zh, quantity.en, lang), styles.text)
-                ws.write_blank(4 + i, 2, None, answer)
-                ws.write(4 + i, 3, unit_text(quantity.unit))
-                define(f"a_{key}", name, 4 + i, 2)
-        else:
-            rows = row_counts[answer_sheet.rows]
-            ws.set_column(0, 0, 10)
-            ws.write(3, 0, _both("位置", "Position", lang), styles.header)
-            ws.write(4, 0, "", styles.unit)
-            for i in range(rows):
-                ws.write_number(5 + i, 0, i + 1)
-            for col, key in enumerate(answer_sheet.items, start=1):
-                quantity = spec.quantity[key]
-                ws.set_column(col, col, 18)
-                ws.write(3, col, f"a_{key}\n{quantity.zh if lang == 'zh' else quantity.en}",
-                         styles.header)
-                ws.write(4, col, f"[{unit_text(quantity.unit)}]", styles.unit)
-                for i in range(rows):
-                    ws.write_blank(5 + i, col, None, answer)
-                define(f"a_{key}", name, 5, col, 5 + rows - 1)
-            ws.set_row(3, 64)
-            ws.freeze_panes(5, 1)
+    for sheet in assignment.sheets:
+        _answer_sheet(book, sheet, assignment, lang, styles, define, answer, rows)
     for ws in book.worksheets():
-        ws.set_paper(9)
-        ws.set_landscape()
-        ws.fit_to_pages(1, 0)
+        landscape_page(ws)
     for name in sorted(names):
         book.define_name(name, names[name])
     book.close()
+
+
+def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
+    name = TASK[lang]
+    task = book.add_worksheet(name)
+    for col, width in enumerate(TASK_WIDTHS):
+        task.set_column(col, col, width)
+    task.write(0, 0, assignment.name(lang), styles.title)
+    other = assignment.en if lang == "zh" else assignment.zh
+    task.write(1, 0, other, styles.subtitle)
+    task.write(3, 0, both("学号", "Student id", lang), styles.group)
+    task.write_string(3, 1, student["student_id"], styles.key)
+    define("s_student_id", name, 3, 1)
+    task.write(4, 0, both("姓名", "Name", lang), styles.group)
+    task.write_string(4, 1, student["name"])
+    define("s_student_name", name, 4, 1)
+    statement = assignment.statement(lang)
+    task.merge_range(6, 0, 6, len(TASK_WIDTHS) - 1, statement, styles.text)
+    task.set_row(6, row_height(statement, sum(TASK_WIDTHS)))
+    row = 8
+    for col, text in enumerate([both("键", "Key", lang), both("数值", "Value", lang),
+                                both("单位", "Unit", lang), "说明", "Description"]):
+        task.write(row, col, text, styles.header)
+    task.repeat_rows(row)
+    for parameter in spec.scalar_parameters():
+        if parameter.group == "pressure":
+            continue                      # the pressure is given as a table instead
+        row += 1
+        task.write(row, 0, parameter.key, styles.key)
+        task.write_number(row, 1, float(values[parameter.key]))
+        task.write(row, 2, unit_text(parameter.unit))
+        task.write(row, 3, parameter.zh, styles.text)
+        task.write(row, 4, parameter.en, styles.text)
+        width = max(display_width(parameter.zh), display_width(parameter.en))
+        if width > TASK_WIDTHS[3] - 2:
+            task.set_row(row, row_height(parameter.zh if display_width(parameter.zh) > display_width(
+                parameter.en) else parameter.en, TASK_WIDTHS[3]))
+        define(f"p_{parameter.key}", name, row, 1)
+    task.activate()
+
+
+def _given_sheet(book, given, lang, styles, define):
+    name = GIVEN[lang]
+    sheet = book.add_worksheet(name)
+    sheet.write(0, 0, both("已知数据：气缸压力（绝对）", "Given data: cylinder pressure (absolute)",
+                           lang), styles.title)
+    sheet.write(1, 0, both("两个整数度之间按线性插值取值", "between two whole degrees, interpolate "
+                           "linearly", lang), styles.subtitle)
+    headers = [(both("曲柄转角 φ", "Crank angle φ", lang), "°", "crank_angle"),
+               (both("气缸压力 p", "Cylinder pressure p", lang), "MPa", "pressure")]
+    for col, (title, unit, key) in enumerate(headers):
+        sheet.set_column(col, col, 24)
+        sheet.write(3, col, title, styles.header)
+        sheet.write(4, col, f"[{unit}]", styles.unit)
+        for i, value in enumerate(given[key]):
+            sheet.write_number(5 + i, col, float(value))
+        define(f"p_given_{key}", name, 5, col, 5 + len(given[key]) - 1)
+    sheet.set_row(3, 32)
+    sheet.freeze_panes(5, 0)
+    sheet.repeat_rows(3, 4)
+
+
+def _answer_sheet(book, answer_sheet, assignment, lang, styles, define, answer, rows):
+    name = answer_sheet.zh if lang == "zh" else answer_sheet.en
+    ws = book.add_worksheet(name)
+    ws.write(0, 0, name, styles.title)
+    ws.write(1, 0, both("在黄色单元格中填写答案（数值或公式）",
+                        "Type your answers into the yellow cells (numbers or formulas)", lang),
+             styles.subtitle)
+    items = [assignment.item[key] for key in answer_sheet.items]
+    if answer_sheet.rows == "scalar":
+        for col, width in enumerate([40, 18, 10, 26]):
+            ws.set_column(col, col, width)
+        for col, text in enumerate([both("量", "Quantity", lang), both("答案", "Answer", lang),
+                                    both("单位", "Unit", lang), both("名称", "Name", lang)]):
+            ws.write(3, col, text, styles.header)
+        for i, item in enumerate(items):
+            ws.write(4 + i, 0, item.label(lang), styles.text)
+            ws.write_blank(4 + i, 1, None, answer)
+            ws.write(4 + i, 2, unit_text(item.unit))
+            ws.write(4 + i, 3, f"a_{item.key}", styles.key)
+            define(f"a_{item.key}", name, 4 + i, 1)
+        ws.set_row(3, 20)
+        return
+    labels = rows[answer_sheet.rows]
+    ws.set_column(0, 0, 26)
+    title = both("位置", "Position", lang) if answer_sheet.rows == "positions" else \
+        both("曲轴转角 α [°]", "Crank angle α [°]", lang)
+    ws.write(3, 0, title, styles.header)
+    ws.write(4, 0, "", styles.unit)
+    for i, text in enumerate(labels):
+        if isinstance(text, str):
+            ws.write_string(5 + i, 0, text, styles.key)
+        else:
+            ws.write_number(5 + i, 0, float(text), styles.key)
+    for col, item in enumerate(items, start=1):
+        ws.set_column(col, col, 20)
+        ws.write(3, col, item.label(lang), styles.header)
+        ws.write(4, col, f"[{unit_text(item.unit)}]", styles.unit)
+        for i in range(len(labels)):
+            ws.write_blank(5 + i, col, None, answer)
+        define(f"a_{item.key}", name, 5, col, 5 + len(labels) - 1)
+    ws.set_row(3, 48)
+    ws.freeze_panes(5, 1)
+    ws.repeat_rows(3, 4)

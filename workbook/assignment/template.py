@@ -1,12 +1,15 @@
 """Assignment templates (templates/assignments/*.toml): variant ranges, the answer
-sheets, the items and the rubric."""
+sheets and their rows, the items in words, the rubric."""
 import tomllib
 from dataclasses import dataclass, field
 
-from crankbook.errors import UnknownPresetError
-from crankbook import resources
+import numpy as np
+
+from crankbook import resources, units
+from crankbook.errors import SpecError, UnknownPresetError
 
 ASSIGNMENTS = "assignments"
+SLIPS = ("unit", "sign")
 
 
 @dataclass
@@ -14,9 +17,16 @@ class Item:
     key: str                      # a_<key> in the student file, q_<key> in the key
     points: float
     tolerance: float
+    zh: str                       # the quantity in words, without the method
+    en: str
+    unit: str
     abs_floor: float = 0.0
     consequential: bool = False
     alternatives: tuple = ()      # other q_ keys that also earn full credit
+    slips: tuple = SLIPS          # which partial credits apply
+
+    def label(self, lang):
+        return self.zh if lang == "zh" else self.en
 
 
 @dataclass
@@ -24,8 +34,38 @@ class AnswerSheet:
     key: str
     zh: str
     en: str
-    rows: str                     # "scalar", or the grid the rows follow
+    rows: str                     # "scalar", "positions", or a grid whose rows are given
     items: tuple
+
+
+@dataclass
+class Positions:
+    """Rows that are mechanism positions, listed in the guide's order: each revolution's
+    positions (``order``, a series of one revolution), revolution after revolution."""
+    grid: str                     # the key's grid of all positions (sorted by angle)
+    order: str                    # one revolution's positions in the guide's order
+    angle_item: str               # the answer item holding the student's crank angles
+    revolutions: int
+    period: float
+    match_tolerance: float        # deg: a student's angle within this names a position
+    labels_zh: tuple
+    labels_en: tuple
+
+    def labels(self, lang):
+        base = self.labels_zh if lang == "zh" else self.labels_en
+        return [label + "′" * revolution for revolution in range(self.revolutions)
+                for label in base]
+
+    def guide_angles(self, results):
+        """The positions' crank angles in the guide's order (all revolutions)."""
+        one = np.asarray(results[self.order], dtype=float)
+        return np.concatenate([one + self.period * r for r in range(self.revolutions)])
+
+    def guide_rows(self, results):
+        """Index into the key's (sorted) position grid of each guide-order position."""
+        grid = np.asarray(results[self.grid], dtype=float)
+        wanted = self.guide_angles(results)
+        return np.array([int(np.argmin(np.abs(grid - angle))) for angle in wanted])
 
 
 @dataclass
@@ -36,13 +76,15 @@ class Assignment:
     en: str
     statement_zh: str
     statement_en: str
-    given: tuple
+    given_trace: bool
     given_step: float | None
+    given_pressure: str | None
     grid_angles: tuple | None
     variant: dict
     constraints: dict
     rubric: dict
     sheets: list
+    positions: Positions | None = None
     items: list = field(default_factory=list)
 
     @property
@@ -52,6 +94,12 @@ class Assignment:
     @property
     def max_score(self):
         return sum(i.points for i in self.items)
+
+    def statement(self, lang):
+        return self.statement_zh if lang == "zh" else self.statement_en
+
+    def name(self, lang):
+        return self.zh if lang == "zh" else self.en
 
 
 def names():
@@ -72,25 +120,45 @@ def load(name, path=None):
     if path is not None:
         with open(path, "rb") as handle:
             data = tomllib.load(handle)
+        file = str(path)
     elif resources.is_safe_name(name) and resources.exists(ASSIGNMENTS, f"{name}.toml"):
         data = resources.read_toml(ASSIGNMENTS, f"{name}.toml")
+        file = f"{ASSIGNMENTS}/{name}.toml"
     else:
         raise UnknownPresetError(f"unknown assignment {name!r}; assignments are "
                                  f"{', '.join(names())}")
     head, rubric = data["assignment"], data["rubric"]
-    items = [Item(key=i["key"], points=float(i["points"]),
-                  tolerance=float(i.get("tolerance", rubric["tolerance"])),
-                  abs_floor=float(i.get("abs_floor", 0.0)),
-                  consequential=bool(i.get("consequential", False)),
-                  alternatives=tuple(i.get("alternatives", ()))) for i in data["item"]]
+    default_slips = tuple(rubric.get("slips", SLIPS))
+    items = []
+    for entry in data["item"]:
+        slips = tuple(entry.get("slips", default_slips))
+        if set(slips) - set(SLIPS):
+            raise SpecError(file, entry["key"], f"slips are {', '.join(SLIPS)}")
+        if not units.known(entry["unit"]):
+            raise SpecError(file, entry["key"], f"unit {entry['unit']!r} is not in units.toml")
+        items.append(Item(key=entry["key"], points=float(entry["points"]),
+                          tolerance=float(entry.get("tolerance", rubric["tolerance"])),
+                          zh=entry["zh"], en=entry["en"], unit=entry["unit"],
+                          abs_floor=float(entry.get("abs_floor", 0.0)),
+                          consequential=bool(entry.get("consequential", False)),
+                          alternatives=tuple(entry.get("alternatives", ())), slips=slips))
     sheets = [AnswerSheet(key=s["key"], zh=s["zh"], en=s["en"], rows=s["rows"],
                           items=tuple(s["items"])) for s in data["sheet"]]
     placed = [k for s in sheets for k in s.items]
     if sorted(placed) != sorted(i.key for i in items):
-        raise ValueError(f"assignment {name}: items and answer sheets do not match")
+        raise SpecError(file, "sheet", "items and answer sheets do not match")
+    positions = None
+    if "positions" in data:
+        p = data["positions"]
+        positions = Positions(grid=p["grid"], order=p["order"], angle_item=p["angle_item"],
+                              revolutions=int(p["revolutions"]), period=float(p["period"]),
+                              match_tolerance=float(p["match_tolerance"]),
+                              labels_zh=tuple(p["labels_zh"]), labels_en=tuple(p["labels_en"]))
     return Assignment(key=head["key"], preset=head["preset"], zh=head["zh"], en=head["en"],
                       statement_zh=head["statement_zh"], statement_en=head["statement_en"],
-                      given=tuple(head.get("given", ())), given_step=head.get("given_step"),
+                      given_trace=bool(head.get("given_trace", False)),
+                      given_step=head.get("given_step"),
+                      given_pressure=head.get("given_pressure"),
                       grid_angles=tuple(head["grid_angles"]) if "grid_angles" in head else None,
                       variant=data["variant"], constraints=data.get("constraints", {}),
-                      rubric=rubric, sheets=sheets, items=items)
+                      rubric=rubric, sheets=sheets, positions=positions, items=items)

@@ -1,47 +1,18 @@
 """Per-student parameters: drawn reproducibly from the template's ranges, rounded as a
-teacher would print them, each a valid mechanism, no two alike."""
-import csv
+teacher would print them, each a valid mechanism, no two alike.
+
+A student's draw depends only on the seed and their id, so adding a student
+changes nobody else's task and the same roster and seed give the same files.
+"""
 import hashlib
-import math
 
 import numpy as np
 
 from crankbook import evaluate, params
-from crankbook.errors import CrankbookError, RosterError
+from crankbook.arithmetic import ArithmeticError_, evaluate as arithmetic
+from crankbook.errors import CrankbookError, SpecError
 
 MAX_ATTEMPTS = 500
-
-
-def read_roster(path):
-    """(rows, fieldnames) of a roster CSV with unique, non-empty student_id and a name."""
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as handle:
-            reader = csv.DictReader(handle)
-            fields = [f.strip() for f in (reader.fieldnames or [])]
-            rows = [{(k or "").strip(): (v or "").strip() for k, v in row.items()}
-                    for row in reader]
-    except FileNotFoundError:
-        raise RosterError(f"roster {path}: no such file") from None
-    except (UnicodeDecodeError, csv.Error) as error:
-        raise RosterError(f"roster {path}: not a readable CSV ({error})") from None
-    for column in ("student_id", "name"):
-        if column not in fields:
-            raise RosterError(f"roster {path}: needs a '{column}' column (has: "
-                              f"{', '.join(fields) or 'no header'})")
-    if not rows:
-        raise RosterError(f"roster {path}: has no students")
-    seen = set()
-    for number, row in enumerate(rows, start=2):
-        sid = row["student_id"]
-        if not sid:
-            raise RosterError(f"roster {path}, line {number}: empty student_id")
-        if not all(c.isalnum() or c in "-_." for c in sid):
-            raise RosterError(f"roster {path}, line {number}: student_id {sid!r} may hold only "
-                              f"letters, digits, '-', '_' and '.'")
-        if sid in seen:
-            raise RosterError(f"roster {path}, line {number}: duplicate student_id {sid!r}")
-        seen.add(sid)
-    return rows, fields
 
 
 def student_rng(seed, student_id):
@@ -61,7 +32,10 @@ def _draw(assignment, base, rng):
             count = int(round((rule["max"] - rule["min"]) / rule["step"]))
             values[key] = round(rule["min"] + rule["step"] * int(rng.integers(count + 1)), 6)
     for key, rule in formulas.items():
-        value = eval(rule["formula"], {"__builtins__": {}, "pi": math.pi}, dict(values))  # noqa: S307
+        try:
+            value = arithmetic(rule["formula"], values)
+        except ArithmeticError_ as error:
+            raise SpecError(f"assignments/{assignment.key}.toml", key, str(error)) from None
         values[key] = round(round(value / rule["step"]) * rule["step"], 6)
     return values
 

@@ -68,6 +68,14 @@ class Layout:
         self.summary_rows = self._place_summary_sheet()
         self._place_scalar_sheets()
         self.defined_names = {}             # name -> reference, filled by the writers
+        # Workbooks of one layout (a class pack's keys) share their compiled formulas.
+        self.signature = (spec.key, spec.file, lang, tuple(sorted(grid_sizes.items())),
+                          tuple(sorted(axis_sizes.items())),
+                          tuple(sorted(self.table_capacity.items())))
+
+    def series_template(self, quantity, sheet_name, item=None, first=False):
+        """The compiled formula of a series column (its first row's when ``first``)."""
+        return _compiled(self, self.signature, quantity.key, sheet_name, item, first)
 
     # ------------------------------------------------------------ per sheet kind
     def _place_series_sheets(self):
@@ -207,3 +215,21 @@ def spec_key_data(spec):
 def summary_series(spec):
     return [q for s in spec.sheets if s.kind == "series" for q in s.columns
             if q.summary and not q.items]
+
+
+_LAYOUTS = {}
+
+
+def _compiled(layout, signature, key, sheet_name, item, first):
+    cache = _LAYOUTS.setdefault(signature, {})
+    if len(_LAYOUTS) > 16:                # a long-lived process builds many layouts
+        _LAYOUTS.clear()
+        cache = _LAYOUTS.setdefault(signature, {})
+    slot = (key, sheet_name, item, first)
+    if slot not in cache:
+        quantity = layout.spec.quantity[key]
+        nodes = quantity.first_nodes if first else quantity.nodes
+        cache[slot] = None if nodes is None else layout.locator.series_formula(
+            nodes, sheet_name, quantity.grid, item=item, axis=quantity.items,
+            guard=quantity.guard)
+    return cache[slot]

@@ -4,7 +4,7 @@ import math
 
 from xlsxwriter.utility import xl_rowcol_to_cell
 
-from crankbook.formulas import fill, quote_sheet
+from crankbook.formulas import ROW, quote_sheet
 from crankbook.writer.charts import add_chart
 from crankbook.writer.fast_sheet import FastWorksheet
 from crankbook.writer.layout import FIRST_ROW, label, unit_text
@@ -53,14 +53,10 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
                 ws.write_number(FIRST_ROW + i, 0, float(angle), angle_format)
         else:
             template = locator.series_formula(grid_q.nodes, name, grid_q.key)
-            for i, angle in enumerate(grid):
-                ws.write_formula(FIRST_ROW + i, 0, fill(template, FIRST_ROW + i, i),
-                                 angle_format, cached(angle))
+            ws.write_formula_column(FIRST_ROW, 0, template, None, angle_format, grid)
     else:
         master = quote_sheet(layout.sheet_name[layout.master[grid_q.key]])
-        for i, angle in enumerate(grid):
-            ws.write_formula(FIRST_ROW + i, 0, f"={master}!$A{FIRST_ROW + i + 1}", angle_format,
-                             cached(angle))
+        ws.write_formula_column(FIRST_ROW, 0, f"={master}!$A{ROW}", None, angle_format, grid)
 
     for quantity in sheet_spec.columns:
         _write_column(ws, quantity, layout, results, styles, name, len(grid))
@@ -93,16 +89,10 @@ def _write_column(ws, quantity, layout, results, styles, sheet_name, rows):
             words = (f"{label(quantity, layout.lang)} — {axis.label(layout.lang, item)}",
                      f"{label(quantity, layout.other)} — {axis.label(layout.other, item)}")
         headers(ws, col, words, quantity.unit, layout, styles)
-        template = locator.series_formula(quantity.nodes, sheet_name, quantity.grid, item=item,
-                                          axis=quantity.items, guard=quantity.guard)
-        first = locator.series_formula(quantity.first_nodes, sheet_name, quantity.grid,
-                                       item=item, axis=quantity.items, guard=quantity.guard) \
-            if quantity.first else template
+        template = layout.series_template(quantity, sheet_name, item)
+        first = layout.series_template(quantity, sheet_name, item, first=True)
         column = values if item is None else values[:, offset]
-        for i in range(rows):
-            row = FIRST_ROW + i
-            ws.write_formula(row, col, fill(first if i == 0 else template, row, i), fmt,
-                             cached(column[i]))
+        ws.write_formula_column(FIRST_ROW, col, template, first, fmt, column[:rows])
 
 
 def _write_input_table(ws, table, layout, results, styles):

@@ -1,0 +1,136 @@
+"""Class rosters as teachers have them.
+
+A CSV saved by Excel in UTF-8 (with or without BOM), GBK/GB18030 (Excel on a
+Chinese Windows), UTF-16 ("Unicode text", tab-separated), or an .xlsx (its first
+sheet).  The header names the id and name columns in English or Chinese
+(student_id/id/学号, name/姓名); other columns are kept.  Every problem is one
+RosterError naming the row and the rule.
+
+Student ids become file names and LMS identifiers, so they are plain: letters
+(any script), digits, '-', '_' and '.', at most 64 characters, not starting with
+'.', '-', '=', '+' or '@' — an id stays exactly what the LMS matches on.
+"""
+import csv
+import io
+import unicodedata
+from pathlib import Path
+
+from crankbook.errors import RosterError
+from crankbook.xlsx_reader import Unreadable, XlsxBook, sheet_rows
+
+ALIASES = {
+    "student_id": ("student_id", "student id", "id", "student number", "学号", "学生编号",
+                   "学生学号"),
+    "name": ("name", "student name", "full name", "姓名", "名字", "学生姓名"),
+}
+MAX_BYTES = 10 * 1024 * 1024
+MAX_STUDENTS = 5000
+ENCODINGS = ("utf-8", "gb18030")
+
+
+def _decode(raw, path):
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        try:
+            return raw.decode("utf-16")
+        except UnicodeDecodeError:
+            raise RosterError(f"roster {path}: damaged UTF-16 text") from None
+    if raw.startswith(b"\xef\xbb\xbf"):
+        raw = raw[3:]
+    for encoding in ENCODINGS:
+        try:
+            return raw.decode(encoding)
+        except UnicodeDecodeError:
+            continue
+    raise RosterError(f"roster {path}: not UTF-8, GBK/GB18030 or UTF-16 text; save it from "
+                      f"Excel as 'CSV UTF-8' or as .xlsx")
+
+
+def _rows(path):
+    path = Path(path)
+    if not path.is_file():
+        raise RosterError(f"roster {path}: no such file")
+    if path.stat().st_size > MAX_BYTES:
+        raise RosterError(f"roster {path}: larger than {MAX_BYTES // 2**20} MB")
+    if path.suffix.lower() in (".xlsx", ".xlsm"):
+        try:
+            book = XlsxBook(path)
+            return [["" if v is None else (str(int(v)) if isinstance(v, float) and v.is_integer()
+                                           else str(v)) for v in row] for row in sheet_rows(book)]
+        except Unreadable as reason:
+            raise RosterError(f"roster {path}: {reason}") from None
+    text = _decode(path.read_bytes(), path)
+    if "\x00" in text:
+        raise RosterError(f"roster {path}: contains NUL characters; not a text file")
+    sample = text[:4096]
+    try:
+        dialect = csv.Sniffer().sniff(sample, delimiters=",;\t")
+    except csv.Error:
+        dialect = csv.excel_tab if "\t" in sample and "," not in sample else csv.excel
+    try:
+        return list(csv.reader(io.StringIO(text), dialect))
+    except csv.Error as error:
+        raise RosterError(f"roster {path}: not a readable CSV ({error})") from None
+
+
+def _column(header, field):
+    for index, title in enumerate(header):
+        if title.strip().lower().replace("_", " ") in {a.replace("_", " ") for a in ALIASES[field]}:
+            return index
+    return None
+
+
+def id_problem(sid):
+    """Why ``sid`` cannot be a student id (None when it can)."""
+    if not sid:
+        return "is empty"
+    if len(sid) > 64:
+        return "is longer than 64 characters"
+    if sid[0] in ".-=+@":
+        return f"starts with {sid[0]!r} (ids become file names and LMS identifiers)"
+    for char in sid:
+        if not (char.isalnum() or char in "-_.") or unicodedata.category(char).startswith("C"):
+            return (f"holds {char!r}; ids may hold only letters, digits, '-', '_' and '.' "
+                    f"(they become file names)")
+    return None
+
+
+def read_roster(path):
+    """(rows, fields): each row a dict with student_id, name and the other columns."""
+    table = _rows(path)
+    while table and not any(cell.strip() for cell in table[0]):
+        table.pop(0)
+    if not table:
+        raise RosterError(f"roster {path}: is empty")
+    header = [cell.strip().lstrip("\ufeff") for cell in table[0]]
+    positions = {field: _column(header, field) for field in ALIASES}
+    for field, index in positions.items():
+        if index is None:
+            names = "/".join(ALIASES[field][:1] + ALIASES[field][4:5] if field == "student_id"
+                             else ALIASES[field][:1] + ALIASES[field][3:4])
+            raise RosterError(f"roster {path}: needs a {names} column (has: "
+                              f"{', '.join(h for h in header if h) or 'no header'})")
+    extras = [(i, h) for i, h in enumerate(header) if i not in positions.values() and h]
+    rows, seen = [], {}
+    for number, cells in enumerate(table[1:], start=2):
+        if not any(cell.strip() for cell in cells):
+            continue
+        if len(cells) > len(header) and any(c.strip() for c in cells[len(header):]):
+            raise RosterError(f"roster {path}, row {number}: {len(cells)} cells but the header "
+                              f"has {len(header)} columns")
+        cells = cells + [""] * (len(header) - len(cells))
+        sid = cells[positions["student_id"]].strip()
+        problem = id_problem(sid)
+        if problem:
+            raise RosterError(f"roster {path}, row {number}: student id {sid[:40]!r} {problem}")
+        if sid in seen:
+            raise RosterError(f"roster {path}, row {number}: student id {sid!r} is also in row "
+                              f"{seen[sid]}")
+        seen[sid] = number
+        row = {"student_id": sid, "name": cells[positions["name"]].strip()}
+        row.update({title: cells[i].strip() for i, title in extras})
+        rows.append(row)
+        if len(rows) > MAX_STUDENTS:
+            raise RosterError(f"roster {path}: more than {MAX_STUDENTS} students")
+    if not rows:
+        raise RosterError(f"roster {path}: has no students")
+    return rows, ["student_id", "name"] + [title for _, title in extras]

@@ -1,0 +1,177 @@
+"""Returned workbooks: found, read and recalculated one at a time.
+
+Every submission is untrusted.  Each is read by the bounded reader
+(crankbook.xlsx_reader) on its own; any failure — a refusal, a damaged part, or an
+error no one foresaw — makes that file ``unreadable`` with a reason in words and
+touches nothing else.  Files saved without values (formulas written by a script)
+are recalculated in LibreOffice, first together and, if that run fails or times
+out, each on its own with its own time limit; the LibreOffice process and its
+copies are gone afterwards whatever happened.  Reasons never name a path on the
+grading machine.
+"""
+import hashlib
+import os
+import re
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from crankbook import recalc
+from crankbook.errors import CrankbookError
+from crankbook.workbook_reader import parse_reference
+from crankbook.xlsx_reader import MAX_FILE, Unreadable, XlsxBook
+
+SUFFIXES = (".xlsx", ".xlsm", ".xls", ".xltx", ".xltm")
+MAX_FILES = 20_000
+MAX_CELLS = 10_000                 # per answer name: far more than any task has
+RECALC_LIMIT = 60                  # seconds per file in LibreOffice
+
+
+@dataclass
+class Submission:
+    path: Path
+    relative: str                  # shown to people: relative to the submissions folder
+    size: int = 0
+    mtime: float = 0.0
+    student_id: str | None = None  # the roster student it belongs to
+    inside_id: str | None = None   # s_student_id in the file
+    answers: dict = field(default_factory=dict)
+    parameters: dict = field(default_factory=dict)
+    problem: str | None = None     # why it is unreadable
+    needs_recalc: bool = False
+    digest: str = ""
+
+
+def shown_name(path, root):
+    """A path relative to ``root`` as text a person can read (undecodable bytes replaced)."""
+    relative = os.fsencode(os.path.relpath(path, root))
+    return relative.decode("utf-8", "replace").replace("\ufffd", "?")
+
+
+def discover(root):
+    """Every workbook-like file under ``root`` (nested folders, any names), sorted."""
+    root = Path(root)
+    found = []
+    for folder, directories, files in os.walk(root):
+        directories.sort()
+        for name in sorted(files):
+            if name.lower().endswith(SUFFIXES) and not name.startswith("~$"):
+                found.append(Path(folder) / name)
+                if len(found) > MAX_FILES:
+                    raise CrankbookError(f"{root}: more than {MAX_FILES} workbooks; give the "
+                                         f"folder of one class")
+    return found
+
+
+def prepare(paths, root):
+    subs = []
+    for path in paths:
+        sub = Submission(path=path, relative=shown_name(path, root))
+        try:
+            status = path.stat()
+            sub.size, sub.mtime = status.st_size, status.st_mtime
+            if sub.size > MAX_FILE:
+                sub.problem = f"file is {sub.size / 1e6:.0f} MB, more than {MAX_FILE // 2**20} MB"
+            else:
+                sub.digest = hashlib.sha256(path.read_bytes()).hexdigest()
+        except OSError as error:
+            sub.problem = f"cannot be opened ({error.strerror})"
+        subs.append(sub)
+    return subs
+
+
+def _named_cells(book, prefix, shapes=None):
+    """name (without prefix) -> [(value, has formula)], every reference checked first."""
+    sheets = set(book.sheetnames)
+    out = {}
+    for name, text in book.defined_names.items():
+        if not name.startswith(prefix):
+            continue
+        key = name[len(prefix):]
+        try:
+            found = parse_reference(name, text, sheets)
+        except CrankbookError as error:
+            raise Unreadable(str(error).split(": ", 1)[-1] if ": " in str(error)
+                             else str(error)) from None
+        cells = found.rows * found.cols
+        if shapes is None and cells > 1:
+            continue                         # only single cells are read (parameters, id)
+        limit = shapes.get(key, MAX_CELLS) if shapes is not None else 1
+        if cells > max(limit, 1) or cells > MAX_CELLS:
+            raise Unreadable(f"name {name} covers {cells} cells; the task gives it "
+                             f"{limit}")
+        values = book.values(found.sheet, found.min_row, found.min_col, found.max_row,
+                             found.max_col)
+        formulas = book.has_formulas(found.sheet, found.min_row, found.min_col, found.max_row,
+                                     found.max_col)
+        out[key] = list(zip(values, formulas))
+    return out
+
+
+def read(sub, shapes, path=None):
+    """Fill ``sub`` from its file (or ``path``, a recalculated copy); never raises."""
+    try:
+        book = XlsxBook(path or sub.path)
+        try:
+            answers = _named_cells(book, "a_", shapes)
+            if not answers:
+                sub.problem = "no a_ answer blocks: not a crankbook student workbook"
+                return
+            sub.answers = {k: [v for v, _ in cells] for k, cells in answers.items()}
+            sub.parameters = {k: cells[0][0] for k, cells in _named_cells(book, "p_").items()
+                              if len(cells) == 1}
+            ident = _named_cells(book, "s_").get("student_id")
+            sub.inside_id = str(ident[0][0]).strip()[:64] if ident and ident[0][0] is not None \
+                else None
+            sub.needs_recalc = any(value is None and formula for cells in answers.values()
+                                   for value, formula in cells)
+        finally:
+            book.close()
+    except Unreadable as reason:
+        sub.problem = str(reason)
+    except RecursionError:
+        sub.problem = "cannot be read (nested too deeply)"
+    except MemoryError:
+        sub.problem = "cannot be read (too large)"
+    except Exception as error:      # a file no one foresaw: it alone is unreadable
+        sub.problem = f"cannot be read ({type(error).__name__})"
+
+
+def _safe_reason(error):
+    text = str(error)
+    return re.sub(r"(/[^\s:]+)+", "…", text)[:200]
+
+
+def recalculate(subs, shapes, progress=print):
+    """Recalculate the submissions saved without values, one bad file costing only
+    itself."""
+    pending = [s for s in subs if s.needs_recalc and not s.problem]
+    if not pending:
+        return
+    progress(f"grade: recalculating {len(pending)} file(s) saved without values in "
+             f"LibreOffice")
+    with tempfile.TemporaryDirectory(prefix="crankbook-grade-") as tmp:
+        tmp = Path(tmp)
+        staged = []
+        for number, sub in enumerate(pending):
+            target = tmp / "in" / f"{number:05d}.xlsx"
+            target.parent.mkdir(exist_ok=True)
+            target.write_bytes(sub.path.read_bytes())
+            staged.append(target)
+        try:
+            outputs = recalc.convert(staged, tmp / "batch",
+                                     timeout=RECALC_LIMIT + 5 * len(staged))
+        except CrankbookError:
+            outputs = [None] * len(staged)
+        for sub, source, output in zip(pending, staged, outputs):
+            if output is None or not output.is_file():
+                try:
+                    output = recalc.convert([source], tmp / f"one-{source.stem}",
+                                            timeout=RECALC_LIMIT)[0]
+                except CrankbookError as error:
+                    sub.problem = f"saved without values, and LibreOffice could not " \
+                                  f"recalculate it ({_safe_reason(error)})"
+                    continue
+            read(sub, shapes, path=output)
+            if not sub.problem and sub.needs_recalc:
+                sub.needs_recalc = False
