@@ -7,7 +7,16 @@ import os
 from contextlib import contextmanager
 from pathlib import Path
 
+from xlsxwriter.exceptions import FileCreateError
+
+from crankbook.errors import OutputPathError
 from crankbook.workspace import sweep, temporary_name
+
+
+def _cannot_write(path, error):
+    reason = getattr(error, "strerror", None) or str(error).split("] ", 1)[-1].split(": '")[0]
+    shown = str(path) if len(str(path)) <= 120 else str(path)[:60] + "…" + str(path)[-40:]
+    return OutputPathError(f"{shown}: cannot write there ({reason})")
 
 
 @contextmanager
@@ -17,15 +26,27 @@ def atomic_path(path):
     On an exception nothing is left behind and an existing ``path`` is untouched.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    sweep(path.parent, path.name)
     temporary = temporary_name(path)
     try:
-        yield str(temporary)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)
-        os.replace(temporary, path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        sweep(path.parent, path.name)
+    except OSError as error:
+        raise _cannot_write(path, error) from None
+    try:
+        try:
+            yield str(temporary)
+        except (OSError, FileCreateError) as error:
+            raise _cannot_write(path, error) from None
+        try:
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(temporary, 0o666 & ~umask)
+            os.replace(temporary, path)
+        except OSError as error:
+            raise _cannot_write(path, error) from None
     finally:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
+        try:
+            if os.path.exists(temporary):
+                os.unlink(temporary)
+        except OSError:
+            pass

@@ -36,6 +36,10 @@ class BuildOptionError(CrankbookError):
     """A build option (grid step, output path, language) that cannot be used."""
 
 
+class OutputPathError(BuildOptionError):
+    """An output path that cannot be written (no such place, read-only, name too long)."""
+
+
 class WorkbookReadError(CrankbookError):
     """A file that is not a readable workbook written by this tool."""
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from crankbook.errors import PressureFileError
 from crankbook.params import NUMBER
-from crankbook.safe_read import Unreadable, check_container
+from crankbook.xlsx_reader import Unreadable, XlsxBook, sheet_rows
 
 MAX_GAP = 30.0             # deg: a coarser trace does not describe the cycle
 MAX_PRESSURE = 50.0        # MPa: beyond any engine; such numbers are kPa or bar
@@ -42,26 +42,19 @@ def _rows_from_csv(path):
 
 
 def _rows_from_xlsx(path):
-    import openpyxl
+    """The first sheet's rows, read by the bounded reader (a hostile file is refused)."""
     try:
-        check_container(path)
-        book = openpyxl.load_workbook(path, read_only=True, data_only=True)
+        book = XlsxBook(path)
         try:
-            sheet = book.worksheets[0]
-            rows = []
-            for row in sheet.iter_rows(values_only=True):
-                if len(rows) > MAX_ROWS:
-                    break
-                if any(c is not None and str(c).strip() for c in row):
-                    rows.append(list(row))
+            rows = sheet_rows(book, limit=MAX_ROWS)
         finally:
             book.close()
     except Unreadable as reason:
         raise PressureFileError(f"pressure file {path}: {reason}") from None
-    except Exception as error:      # openpyxl raises many kinds for broken files
+    except (RecursionError, MemoryError, ValueError, KeyError, TypeError) as error:
         raise PressureFileError(f"pressure file {path}: cannot be read as xlsx "
                                 f"({type(error).__name__})") from None
-    return rows
+    return [row for row in rows if any(c is not None and str(c).strip() for c in row)]
 
 
 def _number(value):

@@ -53,6 +53,12 @@ class Grade:
             self.notes.append((word, fields))
 
 
+def _listed(names, shown=10):
+    """At most ``shown`` names, then how many more."""
+    more = f", … (+{len(names) - shown})" if len(names) > shown else ""
+    return ", ".join(names[:shown]) + more
+
+
 def load_directory(directory):
     directory = Path(directory)
     if not (directory / MANIFEST).is_file() or not (directory / SETTINGS).is_file():
@@ -174,7 +180,7 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
         sub = chosen[sid] = choose(files)
         if len(files) > 1:
             g.note("multiple-submissions", "multiple", count=len(files), chosen=sub.relative,
-                   others=", ".join(s.relative for s in files if s is not sub))
+                   others=_listed([s.relative for s in files if s is not sub]))
         if sub.problem:
             g.status, g.problem = "unreadable", sub.problem
             continue

@@ -39,13 +39,13 @@ def check_output(path, suffix=".xlsx"):
     if not text.strip():
         raise BuildOptionError("-o '': give an output file name ending in .xlsx")
     path = Path(path)
-    if path.exists() and path.is_dir():
+    if len(path.name.encode()) > 200 or len(text.encode()) > 3000:
+        raise BuildOptionError(f"-o {text[:60]}…: the path is too long "
+                               f"(at most 200 bytes of file name, 3000 of path)")
+    if path.is_dir():
         raise BuildOptionError(f"-o {path}: is a directory; give a file name ending in {suffix}")
     if path.suffix.lower() != suffix:
         raise BuildOptionError(f"-o {path}: the output file must end in {suffix}")
-    if len(path.name.encode()) > 200 or len(text.encode()) > 3000:
-        raise BuildOptionError(f"-o {text[:60]}…: the path is too long "
-                               f"(at most 200 bytes of file name)")
     return path
 
 
