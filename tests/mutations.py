@@ -125,6 +125,19 @@ def hostile_name(data, rng):
     return _rewrite(data, "xl/workbook.xml", change)
 
 
+def shrink_name(data, rng):
+    """Shorten one block name (q_ or a_) to its first few cells."""
+    def change(body):
+        text = body.decode()
+        blocks = re.findall(r'<definedName name="([qa]_[^"]+)"[^>]*>[^<]*\$(\d+):\$[A-Z]+\$(\d+)<',
+                            text)
+        name, first, _ = rng.choice(blocks)
+        return re.sub(rf'(<definedName name="{re.escape(name)}"[^>]*>[^<]*\$)(\d+)(:\$[A-Z]+\$)'
+                      rf'(\d+)<', lambda m: f"{m.group(1)}{m.group(2)}{m.group(3)}"
+                      f"{int(m.group(2)) + rng.randint(0, 4)}<", text, count=1).encode()
+    return _rewrite(data, "xl/workbook.xml", change)
+
+
 def hostile_value(data, rng):
     """Replace some numeric cached values of a sheet with extreme or non-numbers."""
     parts = _parts(data)
@@ -187,7 +200,7 @@ def not_a_workbook(data, rng):
 
 
 MUTATIONS = [flip_bytes, truncate, append_junk, delete_part, rename_part, duplicate_part,
-             stored, damage_compressed, hostile_name, hostile_value, entity_declaration,
+             stored, damage_compressed, hostile_name, shrink_name, hostile_value, entity_declaration,
              macro_part, damaged_formula, not_a_workbook]
 
 

@@ -117,6 +117,7 @@ def test_damaged_workbooks_get_one_line_from_audit(engine_book, tmp_path, capsys
     # what must never pass as an untouched workbook
     for kind in ("entity_declaration", "macro_part", "not_a_workbook", "truncate"):
         assert outcomes[kind] == {2}, (kind, outcomes[kind])
+    assert outcomes["shrink_name"] == {1}, "a shortened result name passed as agreeing"
     assert not leftovers(tmp_path)
 
 

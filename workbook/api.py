@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from crankbook import params as parameters
-from crankbook.errors import BuildOptionError
+from crankbook.errors import BuildOptionError, GeometryError
 from crankbook.evaluate import axis_sizes, build_grids, evaluate
 
 
@@ -181,9 +181,22 @@ def results_for(spec, preset, values, tables=None, steps=None):
     """Results of validated ``values`` (the pipeline after the inputs are settled)."""
     tables, steps = tables or {}, dict(steps or {})
     grids = build_grids(spec, steps)
+    results = evaluate(spec, values, tables, grids)
+    _check_written_values(spec, values, results)
     return Results(spec=spec, template=preset["template"], preset=preset, values=values,
-                   tables=tables, steps=steps, results=evaluate(spec, values, tables, grids),
+                   tables=tables, steps=steps, results=results,
                    axis_sizes=axis_sizes(spec, values))
+
+
+def _check_written_values(spec, values, results):
+    """A quantity the workbook holds as a number, not a formula (an optimum found in
+    Python), must exist: GeometryError naming it and the inputs otherwise."""
+    for q in spec.quantities():
+        if q.formula is None and not q.is_grid and q.kind != "rule" and \
+                not np.all(np.isfinite(np.asarray(results[q.key], dtype=float))):
+            shown = ", ".join(f"{p.key} = {values[p.key]:g}" for p in spec.parameters
+                              if p.kind == "number" and not p.axis)
+            raise GeometryError(f"{q.en}: none exists for these inputs ({shown})")
 
 
 def read(path, recalculate=False):

@@ -208,7 +208,8 @@ def _audit_workbook(path):
     print(f"{path}: {len(findings)} cell(s) disagree with the recomputation from the p_ cells:")
     for f in findings:
         expected = "" if f.expected != f.expected else f" (expected {f.expected:.6g})"
-        print(f"  {f.address:<28} {f.name:<36} {f.problem}: {f.stored!r}{expected}")
+        shown = "" if f.stored is None and f.expected != f.expected else f": {f.stored!r}"
+        print(f"  {f.address:<28} {f.name:<36} {f.problem}{shown}{expected}")
     return 1
 
 

@@ -1,0 +1,47 @@
+"""Every boundary value the rules allow either builds a workbook or gets one clear line.
+
+For each preset and each numeric parameter: its bounds (or, where a bound is open,
+values just inside it) through compute and to_excel.  Any exception other than a
+CrankbookError with a one-line message is a failure.
+"""
+import pytest
+
+import crankbook
+from crankbook import params
+from crankbook.errors import CrankbookError
+
+
+def boundary_values(parameter):
+    out = []
+    for bound, open_, inward in ((parameter.min, parameter.min_open, 1.0),
+                                 (parameter.max, parameter.max_open, -1.0)):
+        if bound is None:
+            continue
+        scale = max(abs(bound), 1.0)
+        out += [bound + inward * scale * 1e-12, bound + inward * scale * 1e-6] if open_ \
+            else [bound]
+    return out
+
+
+CASES = [(preset, p.key, value)
+         for preset in params.preset_names()
+         for p in params.load_preset(preset)[0].parameters
+         if p.kind == "number" and not p.axis
+         for value in boundary_values(p)]
+
+
+@pytest.mark.parametrize("preset", params.preset_names())
+def test_every_allowed_boundary_builds_or_says_why(preset, tmp_path):
+    step = {"offset-optimization": None}.get(preset, 10.0)
+    built = refused = 0
+    for _, key, value in [c for c in CASES if c[0] == preset]:
+        target = tmp_path / "b.xlsx"
+        try:
+            crankbook.compute(preset, step=step, **{key: value}).to_excel(target)
+            built += 1
+        except CrankbookError as error:
+            assert "\n" not in str(error) and len(str(error)) < 400, (key, value, error)
+            assert not target.exists(), (key, value)
+            refused += 1
+        target.unlink(missing_ok=True)
+    assert built > refused            # the rules are not so tight that nothing builds
