@@ -173,7 +173,7 @@ def compute(preset="thesis", *, group=None, pressure=None, step=None, **params):
         tables = _trace_tables(spec, pressure)
         if "pressure_source" not in params and "pressure_source" in spec.parameter:
             values["pressure_source"] = 1.0
-    values = parameters.validate(spec, values, tables=tables)
+    values = parameters.validate(spec, values, tables=tables, grids=build_grids(spec, steps))
     return results_for(spec, meta, values, tables, steps)
 
 

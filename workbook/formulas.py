@@ -218,8 +218,10 @@ class Locator:
             if context.grid != place.grid:
                 raise CompileError(f"{{{node.key}:item({item})}} outside its grid")
             first = self._cell(place.sheet, 0, place.col, context, row_text=ROW)
+            if place.count == 1:          # Gnumeric's INDEX of one cell is #REF!
+                return first
             last = xl_col_to_name(place.col + place.count - 1)
-            return f"INDEX({first}:${last}{ROW},{item})"
+            return f"INDEX({first}:${last}{ROW},1,{item})"     # row, column: Gnumeric too
         return self._column(node, place, context, col=place.col + item - 1)
 
     def _column(self, node, place, context, col):

@@ -40,7 +40,14 @@ def load_preset(name):
     meta = dict(data["preset"])
     spec = load_spec(meta["template"])
     values = {p.key: (list(p.default) if p.axis else p.default) for p in spec.parameters}
-    for key, value in data.get("values", {}).items():
+    chain, base = [data], meta.get("base")
+    while base:                   # a preset may start from another (base = "thesis")
+        if len(chain) > 8 or base == name:
+            raise SpecError(f"{PRESETS}/{name}.toml", "base", "presets based on each other")
+        chain.insert(0, read_preset(base))
+        base = chain[0]["preset"].get("base")
+    given = {key: value for link in chain for key, value in link.get("values", {}).items()}
+    for key, value in given.items():
         if key not in spec.parameter:
             raise SpecError(f"{PRESETS}/{name}.toml", key, "sets an unknown parameter")
         values[key] = value
@@ -143,11 +150,14 @@ def parse_assignments(assignments):
     return out
 
 
-def _describe(spec, keys, values):
+def _describe(spec, keys, values, item=None):
+    """``key = value`` of each of ``keys`` (of item ``item``, 1-based, for per-item ones)."""
     def show(key):
         p = spec.parameter[key]
         unit = "" if p.unit in ("-", "count") else f" {p.unit}"
         value = values[key]
+        if p.axis and item is not None:
+            return f"{key} = {value[item - 1]:g}{unit}"
         if p.kind == "choice":
             return f"{key} = {p.choices[int(value) - 1]}"
         if p.axis:
@@ -156,11 +166,12 @@ def _describe(spec, keys, values):
     return ", ".join(show(k) for k in keys if k in spec.parameter)
 
 
-def validate(spec, values, trace_points=0, tables=None):
+def validate(spec, values, trace_points=0, tables=None, grids=None):
     """Raise the first error a user would need to fix; return the values.
 
     Bounds first (each parameter on its own), then the per-item tables' shapes,
-    then every input rule through its calc function.
+    then every input rule through its calc function (on ``grids``, the workbook's
+    numeric grids, where a rule reads one; default: the template's default steps).
     """
     values = dict(values)
     for parameter in spec.parameters:
@@ -187,13 +198,14 @@ def validate(spec, values, trace_points=0, tables=None):
     tables = dict(tables or {})
     if trace_points and not tables:
         tables = {c: np.zeros(trace_points) for c in spec.table_column}
-    flags = evaluate(spec, values, tables, keys=[r.key for r in spec.rules])
+    flags = evaluate(spec, values, tables, grids, keys=[r.key for r in spec.rules])
     for rule in spec.rules:
         flag = np.atleast_1d(flags[rule.key])
         if np.any(flag != 0):
-            where = ""
+            where, first = "", None
             if rule.items:
                 first = int(np.flatnonzero(flag)[0]) + 1
                 where = f"{spec.axis[rule.items].label_en.lower()} {first}: "
-            raise GeometryError(f"{where}{_describe(spec, rule.names, values)}: {rule.en}")
+            raise GeometryError(f"{where}{_describe(spec, rule.names, values, first)}: "
+                                f"{rule.en}")
     return values

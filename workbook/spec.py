@@ -191,7 +191,7 @@ class Chart:
     x_unit: str | None = None
     equal_axes: bool = False
     type: str = "scatter"         # scatter (lines) or column (bars over x)
-    mean_line: str | None = None  # a scalar drawn as a horizontal line
+    log: bool = False             # logarithmic x and y axes (a p–V diagram)
 
 
 @dataclass(frozen=True)
@@ -229,6 +229,7 @@ class WorkbookSpec:
     summary: list = field(default_factory=list)
     highlights: tuple = ()
     key_data: tuple = ()          # inputs and results shown at the top of the Summary
+    print_step: float | None = None   # series tables print every print_step (rows between grouped)
 
     def __post_init__(self):
         self.parameter = {p.key: p for p in self.parameters}

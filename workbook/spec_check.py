@@ -45,8 +45,10 @@ def check(spec):
         for chart in s.charts:
             for key in chart.y + ((chart.x,) if chart.x else ()):
                 q = spec.quantity.get(key)
-                if q is None or not q.is_series:
-                    raise SpecError(spec.file, s.key, f"chart lists {key!r}, not a series")
+                on_items = s.kind == "items" and q is not None and q.items == s.axis
+                if q is None or not (q.is_series or on_items):
+                    raise SpecError(spec.file, s.key, f"chart lists {key!r}, not a series "
+                                    f"(or, on an items sheet, a value per item)")
             if chart.x is None and any(spec.quantity[k].grid != s.grid for k in chart.y):
                 raise SpecError(spec.file, s.key, "a chart over the sheet's grid lists a series "
                                                   "of another grid")

@@ -222,7 +222,7 @@ def _chart(entry, sheet_entry, file):
     if isinstance(entry, (list, tuple)):
         entry = {"y": list(entry)}
     known = {"y", "x", "title_zh", "title_en", "axis_zh", "axis_en", "unit", "x_axis_zh",
-             "x_axis_en", "x_unit", "equal_axes", "type", "mean_line"}
+             "x_axis_en", "x_unit", "equal_axes", "type", "log"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, sheet_entry["key"], f"chart: unknown field(s) "
@@ -235,7 +235,7 @@ def _chart(entry, sheet_entry, file):
                  unit=entry.get("unit", sheet_entry.get("unit", "-")),
                  x_axis_zh=entry.get("x_axis_zh", ""), x_axis_en=entry.get("x_axis_en", ""),
                  x_unit=entry.get("x_unit"), equal_axes=entry.get("equal_axes", False),
-                 type=entry.get("type", "scatter"), mean_line=entry.get("mean_line"))
+                 type=entry.get("type", "scatter"), log=bool(entry.get("log", False)))
 
 
 def _adopted_rules(data):
@@ -352,6 +352,7 @@ def build(data, file):
         groups=data.get("groups", {}), parameters=parameters, axes=axes, constants=constants,
         input_tables=tables, rules=rules, scalars=scalars, sheets=sheets, results=results,
         summary=_summary_quantities(by_grid, summary_series),
-        highlights=tuple(head.get("highlights", ())), key_data=tuple(head.get("key_data", ())))
+        highlights=tuple(head.get("highlights", ())), key_data=tuple(head.get("key_data", ())),
+        print_step=head.get("print_step"))
     check(spec)
     return spec

@@ -19,7 +19,7 @@ def expected_values(spec, values, tables, grids):
     """(numpy results, rounding floors) for the inputs, or (None, None) when the inputs
     break a rule (then the sheet must be blank, and q_inputs_valid 0)."""
     try:
-        params.validate(spec, dict(values), tables=tables)
+        params.validate(spec, dict(values), tables=tables, grids=grids)
     except CrankbookError:
         return None, None
     expected = evaluate(spec, values, tables, grids)

@@ -70,7 +70,7 @@ def _audit(original, values_path, shown, recalculated):
         from crankbook import params
         from crankbook.errors import CrankbookError
         try:
-            params.validate(spec, dict(values), tables=tables)
+            params.validate(spec, dict(values), tables=tables, grids=grids)
         except CrankbookError as error:
             rule_message = str(error)
     findings = []

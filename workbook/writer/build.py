@@ -16,6 +16,7 @@ xlsxwriter.workbook.ZipFile = partial(ZipFile, compresslevel=1)
 from crankbook import __version__
 from crankbook.atomic import atomic_path
 from crankbook.errors import BuildOptionError
+from crankbook.writer.charts import write_charts_sheet
 from crankbook.writer.items_sheet import write_items_sheet
 from crankbook.writer.layout import Layout
 from crankbook.writer.parameters_sheet import write_parameters_sheet
@@ -93,6 +94,8 @@ def _write(build, layout, filename):
             write_items_sheet(book, plans[sheet_spec.key], layout, values, results, styles)
         else:
             write_series_sheet(book, sheet_spec, layout, {**results, **table_values}, styles)
+    if spec.print_step:
+        write_charts_sheet(book, layout, {**results, **table_values}, styles)
     layout.define_all()
     for name in sorted(layout.defined_names):
         book.define_name(name, layout.defined_names[name])

@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 
+from xlsxwriter.utility import xl_range_abs
+
 from crankbook.formulas import quote_sheet
 from crankbook.writer.layout import FIRST_ROW, label, unit_text
 
@@ -13,15 +15,20 @@ COLOURS = ["#1F77B4", "#D62728", "#2CA02C", "#FF7F0E", "#9467BD", "#8C564B", "#E
 GRIDLINES = {"visible": True, "line": {"color": "#D9D9D9"}}
 
 
-def _ranges(layout, key, results):
-    """(name, range) of each curve of a series: one, or one per item."""
+def _ranges(layout, key, results, short=False):
+    """(name, range) of each curve of a series: one, or one per item (named by the item
+    alone when ``short``: the curves of a polar diagram)."""
     spec, locator = layout.spec, layout.locator
     quantity = spec.quantity[key]
     place = layout.places[key]
+    if place.kind == "items":            # one value per item, down an items sheet
+        cells = xl_range_abs(place.row, place.col, place.row + place.count - 1, place.col)
+        return [(label(quantity, layout.lang), f"{quote_sheet(place.sheet)}!{cells}")]
     if not quantity.items:
         return [(label(quantity, layout.lang), locator.column_range(key))]
     axis = spec.axis[quantity.items]
-    return [(f"{label(quantity, layout.lang)} — {axis.label(layout.lang, i + 1)}",
+    return [(axis.label(layout.lang, i + 1) if short else
+             f"{label(quantity, layout.lang)} — {axis.label(layout.lang, i + 1)}",
              locator.column_range(key, col=place.col + i)) for i in range(place.count)]
 
 
@@ -63,7 +70,8 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
         [(None, f"{quote_sheet(sheet)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}")]
     curves, xs, ys = 0, [], []
     for key in chart_spec.y:
-        for index, (name, values) in enumerate(_ranges(layout, key, results)):
+        for index, (name, values) in enumerate(_ranges(layout, key, results,
+                                                        short=bool(chart_spec.x))):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
             series = {"name": name, "categories": x_range, "values": values}
             colour = COLOURS[curves % len(COLOURS)]
@@ -76,7 +84,7 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
             chart.add_series(series)
             y = np.asarray(results[key], dtype=float)
             ys.append(y if y.ndim == 1 else y[:, index])
-            x = np.asarray(results[x_key], dtype=float)
+            x = np.asarray(results.get(x_key, []), dtype=float)
             xs.append(x if x.ndim == 1 else x[:, index])
             curves += 1
     chart.set_title({"name": label(chart_spec, lang, "title_"),
@@ -91,6 +99,9 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
             and kind == "scatter":
         low, high, major = x_q.chart_range
         x_axis.update({"min": low, "max": high, "major_unit": major})
+    if chart_spec.log:
+        x_axis["log_base"] = y_axis["log_base"] = 10
+        x_axis["crossing"] = "min"
     size = {"width": 760, "height": 430}
     if chart_spec.equal_axes:
         bounds = _equal_bounds(xs, ys)
@@ -105,5 +116,34 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
     chart.set_x_axis(x_axis)
     chart.set_y_axis(y_axis)
     chart.set_legend({"position": "bottom"} if curves > 1 else {"none": True})
+    chart.show_hidden_data()              # rows folded for printing are still plotted
     chart.set_size(size)
     return chart
+
+
+def write_charts_sheet(book, layout, results, styles):
+    """Every chart of the workbook again on one sheet, two to a printed page: what
+    the series sheets print is their tables."""
+    from crankbook.writer.print_setup import A4
+    spec, lang = layout.spec, layout.lang
+    charts = [(sheet, chart) for sheet in spec.sheets for chart in sheet.charts]
+    if not charts:
+        return
+    ws = book.add_worksheet(layout.sheet_name["charts"])
+    ws.write(0, 0, "图表 / Charts" if lang == "zh" else "Charts / 图表", styles.title)
+    ws.set_column(0, 25, 8.43)
+    band, breaks = 2, []
+    for index, (sheet, chart_spec) in enumerate(charts):
+        chart = add_chart(book, chart_spec, sheet, layout, results)
+        chart.set_size({"width": 560, "height": 540})
+        column = 0 if index % 2 == 0 else 9
+        ws.write(band - 1, column, label(sheet, lang), styles.subtitle)
+        ws.insert_chart(band, column, chart)
+        if index % 2 == 1 or index == len(charts) - 1:
+            band += 30
+            breaks.append(band - 1)       # two charts a page
+    ws.set_h_pagebreaks(breaks[:-1])
+    ws.set_paper(A4)
+    ws.set_landscape()
+    ws.fit_to_pages(1, 0)
+    ws.print_area(0, 0, band, 17)

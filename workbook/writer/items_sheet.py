@@ -1,5 +1,6 @@
 """An items sheet: one row per item (cylinder, throw, stage, gear, …), the per-item
 inputs (yellow, validated) and the per-item results and checks."""
+from crankbook.writer.charts import add_chart
 from crankbook.writer.layout import FIRST_ROW, label
 from crankbook.writer.parameters_sheet import input_cell, validation
 from crankbook.writer.print_setup import landscape_page
@@ -36,6 +37,9 @@ def write_items_sheet(book, plan, layout, values, results, styles):
         for i in range(count):
             write_formula_cell(ws, FIRST_ROW + i, col, quantity, layout, results, styles, name,
                                item=i + 1, value=results[quantity.key][i])
+    for index, chart_spec in enumerate(sheet.charts):
+        chart = add_chart(book, chart_spec, sheet, layout, results)
+        ws.insert_chart(FIRST_ROW + count + 2 + index * 24, 1, chart)
     ws.freeze_panes(FIRST_ROW, 1)
     landscape_page(ws)
     ws.repeat_rows(FIRST_ROW - 3, FIRST_ROW - 1)

@@ -12,7 +12,8 @@ FIRST_ROW = 5            # 0-based row of the first grid point / item on series 
 SCALAR_FIRST_ROW = 4     # first value row of a scalars sheet
 OTHER = {"zh": "en", "en": "zh"}
 FIXED_SHEETS = {"parameters": {"zh": "参数", "en": "Parameters"},
-                "summary": {"zh": "汇总", "en": "Summary"}}
+                "summary": {"zh": "汇总", "en": "Summary"},
+                "charts": {"zh": "图表", "en": "Charts"}}
 PARAMETER_TABLE_ROW = 6  # header row of the Parameters sheet's input table
 
 
@@ -58,7 +59,7 @@ class Layout:
         self.table_capacity = {t.key: max(t.capacity, (table_lengths or {}).get(t.key, 0))
                                for t in spec.input_tables}
         grid_rows = {g: (FIRST_ROW, FIRST_ROW + n - 1) for g, n in grid_sizes.items()}
-        self.locator = Locator(spec, {}, grid_rows, {}, axis_sizes)
+        self.locator = Locator(spec, {}, grid_rows, self._grid_numbers(grid_sizes), axis_sizes)
         self.places = self.locator.places
         self.table_start = {}
         self.column_of = {}                  # series key -> first column on its sheet
@@ -78,6 +79,17 @@ class Layout:
         return _compiled(self, self.signature, quantity.key, sheet_name, item, first)
 
     # ------------------------------------------------------------ per sheet kind
+    def _grid_numbers(self, grid_sizes):
+        """grid -> (start, step, points of one period) of each periodic numeric grid: what
+        a phase-shifted reference {key:at(…)} needs (the step follows from the rows)."""
+        out = {}
+        for grid in self.spec.grids:
+            rows = grid_sizes.get(grid.key)
+            if grid.is_numeric_grid and grid.period and rows and rows > 1:
+                step = (grid.stop - grid.start) / (rows - 1)
+                out[grid.key] = (grid.start, step, int(round(grid.period / step)))
+        return out
+
     def _place_series_sheets(self):
         spec = self.spec
         for grid_key, home in self.master.items():

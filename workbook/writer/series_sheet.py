@@ -70,8 +70,29 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
         chart = add_chart(book, chart_spec, sheet_spec, layout, results)
         # Anchored below the header rows, which repeat on every printed page.
         ws.insert_chart(FIRST_ROW + index * CHART_ROWS, chart_col, chart, {"x_offset": 10})
+    step = sheet_spec.print_step or spec.print_step
+    if step and sheet_spec.grid == spec.grid.key:
+        _group_between_print_steps(ws, grid, step, layout, styles)
     landscape_report(ws, layout, sheet_spec, len(grid), last_col, chart_col)
+    # the table prints; its charts print on the Charts sheet, two to a page
+    ws.print_area(0, 0, FIRST_ROW + len(grid) - 1, last_col)
     return ws
+
+
+def _group_between_print_steps(ws, grid, step, layout, styles):
+    """Rows between multiples of ``step`` are grouped and folded (click + to show
+    them): the sheet opens and prints at the coarser step; charts plot every row."""
+    ratio = [float(a) / step for a in grid]
+    folded = [i for i, r in enumerate(ratio) if abs(r - round(r)) > 1e-9]
+    if not folded:
+        return
+    for i in folded:
+        ws.set_row(FIRST_ROW + i, None, None, {"level": 1, "hidden": True})
+    ws.outline_settings(True, False, True, False)
+    note = (f"每 {step:g}° 一行；其间各行已折叠（点左侧 + 展开），图表画出全部各行" if layout.lang == "zh"
+            else f"one row every {step:g}°; the rows between are folded (click + at the left to "
+                 f"show them); the charts plot every row")
+    ws.write(0, 8, note, styles.subtitle)
 
 
 def _write_column(ws, quantity, layout, results, styles, sheet_name, rows):
