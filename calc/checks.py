@@ -40,3 +40,27 @@ def no_crank(stroke, offset, extreme_angle):
 def not_positive(value):
     """1 where a quantity that must be positive is not."""
     return _flag(~(np.asarray(value, dtype=float) > 0))
+
+
+def dimension_beyond_bore(bore, main_journal_diameter, main_journal_length, crankpin_diameter,
+                          crankpin_length, web_thickness, web_width, fillet_radius):
+    """1 where a crankshaft dimension exceeds three bores."""
+    largest = np.max([main_journal_diameter, main_journal_length, crankpin_diameter,
+                      crankpin_length, web_thickness, web_width, fillet_radius])
+    return _flag(largest > 3 * bore)
+
+
+def bore_not_inside(main_journal_bore, main_journal_diameter, crankpin_bore, crankpin_diameter):
+    """1 where a hollow journal's bore is not smaller than its diameter."""
+    return _flag((main_journal_bore >= main_journal_diameter) |
+                 (crankpin_bore >= crankpin_diameter))
+
+
+def throw_missing(check_throw, throw):
+    """1 where the throw to check is beyond the last throw."""
+    return _flag(check_throw > np.max(np.asarray(throw, dtype=float)))
+
+
+def band_reversed(fatigue_band_min, fatigue_band_max):
+    """1 where a band's lower end exceeds its upper end."""
+    return _flag(fatigue_band_min > fatigue_band_max)

@@ -73,3 +73,13 @@ def angle_of_minimum(crank_angle, values, tolerance=EXTREME_TOLERANCE):
 def last_value(values):
     """The last element of a series (the converged end of an iteration)."""
     return float(np.asarray(values)[-1])
+
+
+def constant_series(value, crank_angle):
+    """A scalar repeated on every grid point (a horizontal line on a chart)."""
+    return np.full(np.shape(crank_angle), float(value))
+
+
+def same(value):
+    """The value itself (shown again elsewhere)."""
+    return value

@@ -5,13 +5,15 @@ two-polytrope model with a Wiebe burn law, chosen because each crank angle is a
 closed-form expression — one spreadsheet formula per row, no step-by-step
 integration that would depend on the grid step:
 
-* intake stroke (0 ≤ α < 180°): p = p_in
-* closed part (180° ≤ α < 540°): p = (1 − x_b)·p_c + x_b·p_e with
+* intake stroke (0 ≤ α < 180°): p = p_in, reached from p_ex over the first 30°
+  (valve overlap) so that the cycle closes, p(0) = p(720°) = p_ex
+* closed part: p = (1 − x_b)·p_c + x_b·p_e with
   p_c = p_in·(V_max/V)^n_c (compression polytrope),
   p_e = p_3·(V_c/V)^n_e (expansion polytrope through the constant-volume
   combustion pressure p_3 = p_c(V_c) + (κ − 1)·Q/V_c) and
   x_b = 1 − exp(−a·((α − α_s)/Δα)^(m+1)) the Wiebe mass fraction burned
-* exhaust stroke (540° ≤ α ≤ 720°): p = p_ex
+* from the exhaust valve opening (EVO) on: a blowdown to p_ex over 60° (a half
+  cosine), then p = p_ex through the exhaust stroke
 
 Firing TDC is at α = 360°.  Reference: J. B. Heywood, *Internal Combustion Engine
 Fundamentals*, §9.2 (Wiebe function) and §5.4 (polytropic processes).
@@ -60,26 +62,47 @@ def combustion_pressure(intake_pressure, compression_ratio, compression_exponent
             + (heat_capacity_ratio - 1) * heat_released / clearance_volume)
 
 
-def model_pressure(crank_angle, cylinder_volume, burned_fraction, clearance_volume,
-                   displaced_volume, intake_pressure, exhaust_pressure, compression_exponent,
-                   expansion_exponent, combustion_pressure, cycle=4 * np.pi):
-    """Cylinder pressure of the blended two-polytrope model [Pa] (see module docstring).
-
-    ``crank_angle`` [rad] runs over the ``cycle`` 0…4π with firing TDC at 2π; the
-    four strokes are its quarters.
-    """
-    crank_angle = np.asarray(crank_angle, dtype=float)
+def closed_pressure(cylinder_volume, burned_fraction, clearance_volume, displaced_volume,
+                    intake_pressure, compression_exponent, expansion_exponent,
+                    combustion_pressure):
+    """Pressure while the valves are closed: the compression and expansion polytropes
+    blended by the burned fraction, (1 − x_b)·p_c + x_b·p_e [Pa]."""
     volume = np.asarray(cylinder_volume, dtype=float)
     compression = intake_pressure * ((clearance_volume + displaced_volume) / volume) \
         ** compression_exponent
     expansion = combustion_pressure * (clearance_volume / volume) ** expansion_exponent
-    closed = (1 - burned_fraction) * compression + burned_fraction * expansion
-    # Which stroke: 0 intake, 1–2 compression/expansion, 3 exhaust.  The small
-    # allowance keeps a grid point at exactly 540° on the exhaust side despite the
-    # degree-to-radian rounding, as the workbook's α < 540 test does.
-    stroke_number = np.floor(crank_angle / (cycle / 4) + 1e-9)
-    return np.where(stroke_number < 1, intake_pressure,
-                    np.where(stroke_number < 3, closed, exhaust_pressure))
+    return (1 - burned_fraction) * compression + burned_fraction * expansion
+
+
+def smooth_step(x, start, width):
+    """0 before ``start``, 1 after ``start + width``, a half cosine between [-]."""
+    x = np.asarray(x, dtype=float)
+    progress = np.clip((x - start) / width, 0.0, 1.0)
+    return (1 - np.cos(np.pi * progress)) / 2
+
+
+def model_pressure(crank_angle, closed_pressure, intake_pressure, exhaust_pressure,
+                   exhaust_valve_opening, intake_transition, blowdown_duration,
+                   cycle=4 * np.pi):
+    """Cylinder pressure of the model over the working cycle [Pa].
+
+    * intake stroke (α < cycle/4): from the exhaust pressure at TDC to the intake
+      pressure over the first ``intake_transition`` (valve overlap), so the cycle
+      closes: p(0) = p(cycle) = p_ex;
+    * closed valves: ``closed_pressure``;
+    * from the exhaust valve opening on, a blowdown to the exhaust pressure over
+      ``blowdown_duration`` (a half cosine: no vertical drop at BDC).
+
+    Angles [rad]; ``cycle`` 4π for a four-stroke, firing TDC at half of it.
+    """
+    crank_angle = np.asarray(crank_angle, dtype=float)
+    intake = exhaust_pressure + (intake_pressure - exhaust_pressure) \
+        * smooth_step(crank_angle, 0.0, intake_transition)
+    blown = closed_pressure + (exhaust_pressure - closed_pressure) \
+        * smooth_step(crank_angle, exhaust_valve_opening, blowdown_duration)
+    # the small allowance keeps a grid point at exactly 180° on the closed side
+    # despite the degree-to-radian rounding, as the workbook's α < 180 test does
+    return np.where(crank_angle / (cycle / 4) < 1 - 1e-12, intake, blown)
 
 
 def trace_segment(crank_angle, trace_crank_angle):

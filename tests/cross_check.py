@@ -46,6 +46,29 @@ WORKBOOKS = {
     "course_edited": {"edit_of": "course", "edits": {"time_ratio": 1.12, "offset": 35.0,
                                                      "speed": 900.0, "crank_cg_ratio": 0.0}},
     "optimization": {"args": ["--preset", "offset-optimization"]},
+    # multi-cylinder layouts (issue 11) ------------------------------------------
+    "inline4": {"args": ["--preset", "inline-4", "--step", "4"]},
+    "inline6_step3": {"args": ["--preset", "inline-6", "--step", "3"]},
+    "v8_counterweights": {"args": ["--preset", "v8-crossplane", "--set", "counterweights=1",
+                                   "--set", "balance_fraction=0.5", "--step", "3"]},
+    "vtwin_series_step2_en": {"args": ["--preset", "v-twin-90", "--set", "exact_kinematics=0",
+                                       "--step", "2", "--lang", "en"]},
+    "boxer4": {"args": ["--preset", "boxer-4", "--set", "counterweights=1", "--step", "4"]},
+    "inline4_edit_layout": {"edit_of": "inline4",
+                            "edits": {"firing_angle": [360.0, 540.0, 180.0, 0.0],
+                                      "bank_angle": [10.0, 10.0, 10.0, 10.0],
+                                      "axial_position": [0.0, 90.0, 180.0, 270.0],
+                                      "counterweights": 1.0, "speed": 3100.0}},
+    # the crankshaft (issue 12) -------------------------------------------------
+    "thesis_edit_crankshaft": {"edit_of": "thesis",
+                               "edits": {"strength_theory": 4.0, "crankpin_bore": 16.0,
+                                         "check_angle": 400.0, "fatigue_stress_source": 1.0,
+                                         "alternative_stroke": 104.0, "counterweights": 1.0,
+                                         "exhaust_valve_opening": 480.0}},
+    "inline4_check_throw3": {"args": ["--preset", "inline-4", "--set", "check_throw=3",
+                                      "--set", "counterweights=1", "--step", "2"]},
+    "inline4_invalid_throw": {"edit_of": "inline4", "edits": {"throw": [1.0, 1.0, 3.0, 4.0]},
+                              "valid": False},
 }
 
 

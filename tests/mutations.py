@@ -126,32 +126,38 @@ def hostile_name(data, rng):
 
 
 def shrink_name(data, rng):
-    """Shorten one block name (q_ or a_) to its first few cells."""
+    """Shorten one block name (q_ or a_ over several rows) to fewer rows."""
     def change(body):
         text = body.decode()
-        blocks = re.findall(r'<definedName name="([qa]_[^"]+)"[^>]*>[^<]*\$(\d+):\$[A-Z]+\$(\d+)<',
-                            text)
-        name, first, _ = rng.choice(blocks)
-        return re.sub(rf'(<definedName name="{re.escape(name)}"[^>]*>[^<]*\$)(\d+)(:\$[A-Z]+\$)'
-                      rf'(\d+)<', lambda m: f"{m.group(1)}{m.group(2)}{m.group(3)}"
-                      f"{int(m.group(2)) + rng.randint(0, 4)}<", text, count=1).encode()
+        blocks = [(name, int(first), int(last)) for name, first, last in re.findall(
+            r'<definedName name="([qa]_[^"]+)"[^>]*>[^<]*\$(\d+):\$[A-Z]+\$(\d+)<', text)
+            if int(last) > int(first)]
+        name, first, last = rng.choice(blocks)
+        end = first + rng.randint(0, min(4, last - first - 1))
+        return re.sub(rf'(<definedName name="{re.escape(name)}"[^>]*>[^<]*\${first}:\$[A-Z]+\$)'
+                      rf'{last}<', lambda m: f"{m.group(1)}{end}<", text, count=1).encode()
     return _rewrite(data, "xl/workbook.xml", change)
 
 
-def hostile_value(data, rng):
-    """Replace some numeric cached values of a sheet with extreme or non-numbers."""
+def _edit_a_sheet(data, rng, change):
+    """``change`` (text -> text) applied to one worksheet part chosen at random."""
     parts = _parts(data)
     sheets = [i for i, (info, _) in enumerate(parts)
               if info.filename.startswith("xl/worksheets/sheet")]
     index = rng.choice(sheets)
     info, body = parts[index]
-    text = body.decode()
-    values = list(re.finditer(r"<v>([^<]*)</v>", text))
-    if values:
+    parts[index] = (info, change(body.decode()).encode())
+    return _zip(parts)
+
+
+def hostile_value(data, rng):
+    """Replace some numeric cached values of a sheet with extreme or non-numbers."""
+    def change(text):
+        values = list(re.finditer(r"<v>([^<]*)</v>", text))
         for match in rng.sample(values, min(len(values), rng.randint(1, 5))):
             text = text.replace(match.group(0), f"<v>{rng.choice(HOSTILE_VALUES)}</v>", 1)
-    parts[index] = (info, text.encode())
-    return _zip(parts)
+        return text
+    return _edit_a_sheet(data, rng, change)
 
 
 def entity_declaration(data, rng):
@@ -182,16 +188,10 @@ def macro_part(data, rng):
 
 def damaged_formula(data, rng):
     """Unbalanced quotes and parentheses in formulas."""
-    parts = _parts(data)
-    sheets = [i for i, (info, _) in enumerate(parts)
-              if info.filename.startswith("xl/worksheets/sheet")]
-    index = rng.choice(sheets)
-    info, body = parts[index]
-    text = body.decode()
-    text = re.sub(r"<f>([^<]{3})", lambda m: "<f>\"'(" + m.group(1), text, count=5)
-    text = re.sub(r'<f t="shared"([^>]*)>', r'<f t="shared" ref="ZZ" si="x"\1>', text)
-    parts[index] = (info, text.encode())
-    return _zip(parts)
+    def change(text):
+        text = re.sub(r"<f>([^<]{3})", lambda m: "<f>\"'(" + m.group(1), text, count=5)
+        return re.sub(r'<f t="shared"([^>]*)>', r'<f t="shared" ref="ZZ" si="x"\1>', text)
+    return _edit_a_sheet(data, rng, change)
 
 
 def not_a_workbook(data, rng):

@@ -46,13 +46,19 @@ def test_measured_trace_drives_the_pressure_column(checked):
         assert recalculated["q_cylinder_pressure_max"] == pytest.approx(4.6, abs=0.05)
 
 
+INVALID = {"thesis_invalid": ("rod too short", "连杆过短"),
+           "inline4_invalid_throw": ("cylinders on one throw must have one crank angle",
+                                     "同一曲拐上的气缸")}
+
+
 @pytest.mark.parametrize("engine", ENGINES)
-def test_impossible_geometry_shows_words_not_errors(checked, engine):
-    recalculated = checked["thesis_invalid"].engines[engine]
-    assert checked["thesis_invalid"].expected is None
+@pytest.mark.parametrize("name", INVALID)
+def test_impossible_inputs_show_words_not_errors(checked, engine, name):
+    recalculated = checked[name].engines[engine]
+    assert checked[name].expected is None
     assert recalculated["q_inputs_valid"] == 0
-    assert "rod too short" in recalculated["q_input_status"]
-    assert "连杆过短" in recalculated["q_input_status"]
+    for words in INVALID[name]:
+        assert words in recalculated["q_input_status"]
     assert all(v in (None, "") for v in recalculated["q_torque"]), "blank, not #NUM!"
     assert recalculated["q_torque_max"] in (None, "")
 

@@ -18,7 +18,7 @@ import numpy as np
 
 import re
 
-from crankbook.calc import cycle, forces, kinematics, mechanism, optimization
+from crankbook.calc import cycle, forces, kinematics, mechanism, multicylinder, optimization
 from crankbook.toml_files import names_in, read_named
 
 CLAIMS = "claims"
@@ -32,7 +32,7 @@ HELPERS = {
     "asin": math.asin, "acos": math.acos, "atan": math.atan, "radians": math.radians,
     "degrees": math.degrees, "log10": math.log10, "exp": math.exp,
     "np": np, "kinematics": kinematics, "forces": forces, "mechanism": mechanism,
-    "optimization": optimization, "cycle": cycle,
+    "optimization": optimization, "cycle": cycle, "multicylinder": multicylinder,
 }
 
 

@@ -61,6 +61,14 @@ def write_student(job):
     return sid
 
 
+def _manifest_value(value):
+    """A parameter as the manifest keeps it: a number, or [a,b,…] for a per-item one
+    (never text a spreadsheet would take for a formula)."""
+    if isinstance(value, (list, tuple)):
+        return "[" + ",".join(repr(float(v)) for v in value) + "]"
+    return float(value)
+
+
 def assign(preset, roster_path, seed, lang, outdir, progress=True):
     started = time.perf_counter()
     spec, base, _ = params.load_preset(preset)
@@ -91,7 +99,7 @@ def assign(preset, roster_path, seed, lang, outdir, progress=True):
         for row in rows:
             values = variants[row["student_id"]]
             table.append([row["student_id"], row["name"], *[row.get(f, "") for f in extra],
-                          *[repr(float(values[k])) for k in keys], fingerprint(values, keys)])
+                          *[_manifest_value(values[k]) for k in keys], fingerprint(values, keys)])
         (staging / MANIFEST).write_text(csv_text(table), encoding="utf-8", newline="")
         (staging / RUBRIC).write_text(resources.read_text(templates.ASSIGNMENTS,
                                                           f"{assignment.key}.toml"),

@@ -96,6 +96,8 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
     for parameter in spec.scalar_parameters():
         if parameter.group == "pressure":
             continue                      # the pressure is given as a table instead
+        if assignment.task_groups is not None and parameter.group not in assignment.task_groups:
+            continue                      # inputs the task does not use
         row += 1
         task.write(row, 0, parameter.key, styles.key)
         task.write_number(row, 1, float(values[parameter.key]))

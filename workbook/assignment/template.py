@@ -86,6 +86,7 @@ class Assignment:
     sheets: list
     positions: Positions | None = None
     items: list = field(default_factory=list)
+    task_groups: tuple | None = None   # parameter groups the Task sheet shows (None: all)
 
     @property
     def item(self):
@@ -161,4 +162,5 @@ def load(name, path=None):
                       given_pressure=head.get("given_pressure"),
                       grid_angles=tuple(head["grid_angles"]) if "grid_angles" in head else None,
                       variant=data["variant"], constraints=data.get("constraints", {}),
-                      rubric=rubric, sheets=sheets, positions=positions, items=items)
+                      rubric=rubric, sheets=sheets, positions=positions, items=items,
+                      task_groups=tuple(head["task_groups"]) if "task_groups" in head else None)
