@@ -1,0 +1,146 @@
+"""Disc cams with an offset roller follower (the valve train of the course design,
+seed 001: the guides' cam tasks and the worked report R07 §2.2).
+
+A cam turns through the cam angle δ; the follower rises by h over the rise angle Φ,
+dwells at the top for Φs, returns over Φ′ and dwells at the bottom for the rest of
+the turn.  Each of rise and return follows one motion law, written on the normalised
+angle u ∈ [0, 1] as s = h·f(u):
+
+==================  ===========================  ===================
+law                 f(u)                         f″(u)
+==================  ===========================  ===================
+constant velocity   u                            0
+constant accel.     2u² | 1 − 2(1 − u)²          4 | −4
+cosine (SHM)        (1 − cos πu)/2               π²/2·cos πu
+cycloidal (sine)    u − sin(2πu)/2π              2π·sin 2πu
+3-4-5 polynomial    10u³ − 15u⁴ + 6u⁵            60u − 180u² + 120u³
+==================  ===========================  ===================
+
+Pitch curve (R07 §2.2): s0 = √(r0² − e²), x = (s0 + s)·sin δ + e·cos δ,
+y = (s0 + s)·cos δ − e·sin δ; the other sense of rotation mirrors x.  Pressure angle
+α = atan((ds/dδ − e)/(s0 + s)).  Angles in radians, lengths in metres, velocities
+per second (ω the cam's angular velocity).
+
+References
+----------
+Seed 001 (guide: 附表1, valve advances; report R07 §2.2); any mechanism-design text
+(e.g. 孙桓《机械原理》, cam chapter) for the motion laws and curvature.
+"""
+import numpy as np
+
+LAWS = ("constant_velocity", "constant_acceleration", "cosine", "cycloidal", "3-4-5")
+
+
+def law_shape(u, law):
+    """(f, f′, f″) of motion law ``law`` (1-based index into LAWS) at u ∈ [0, 1]."""
+    u = np.asarray(u, dtype=float)
+    law = np.asarray(law)
+    first_half = u < 0.5
+    shapes = {
+        1: (u, np.ones_like(u), np.zeros_like(u)),
+        2: (np.where(first_half, 2 * u ** 2, 1 - 2 * (1 - u) ** 2),
+            np.where(first_half, 4 * u, 4 * (1 - u)),
+            np.where(first_half, 4.0, -4.0)),
+        3: ((1 - np.cos(np.pi * u)) / 2, np.pi / 2 * np.sin(np.pi * u),
+            np.pi ** 2 / 2 * np.cos(np.pi * u)),
+        4: (u - np.sin(2 * np.pi * u) / (2 * np.pi), 1 - np.cos(2 * np.pi * u),
+            2 * np.pi * np.sin(2 * np.pi * u)),
+        5: (10 * u ** 3 - 15 * u ** 4 + 6 * u ** 5, 30 * u ** 2 - 60 * u ** 3 + 30 * u ** 4,
+            60 * u - 180 * u ** 2 + 120 * u ** 3),
+    }
+    out = [np.zeros_like(u) for _ in range(3)]
+    for number, (f, df, ddf) in shapes.items():
+        chosen = law == number
+        for k, part in enumerate((f, df, ddf)):
+            out[k] = np.where(chosen, part, out[k])
+    return tuple(out)
+
+
+def piece(cam_angle, rise_angle, far_dwell, return_angle):
+    """0 rise, 1 far dwell, 2 return, 3 near dwell: the piece each δ belongs to (a
+    boundary belongs to the piece that starts there; 2π to the near dwell)."""
+    delta = np.mod(np.asarray(cam_angle, dtype=float), 2 * np.pi)
+    delta = np.where(np.isclose(np.asarray(cam_angle, dtype=float), 2 * np.pi), 2 * np.pi,
+                     delta)
+    ends = np.cumsum([rise_angle, far_dwell, return_angle])
+    tol = 1e-12
+    return np.where(delta < ends[0] - tol, 0,
+                    np.where(delta < ends[1] - tol, 1, np.where(delta < ends[2] - tol, 2, 3)))
+
+
+def follower_derivatives(cam_angle, lift, rise_angle, far_dwell, return_angle, rise_law,
+                         return_law):
+    """(s, ds/dδ, d²s/dδ²) of the follower [m, m/rad, m/rad²]."""
+    delta = np.asarray(cam_angle, dtype=float)
+    part = piece(delta, rise_angle, far_dwell, return_angle)
+    u_rise = np.clip(delta / rise_angle, 0, 1)
+    u_return = np.clip((delta - rise_angle - far_dwell) / return_angle, 0, 1)
+    f, df, ddf = law_shape(u_rise, rise_law)
+    g, dg, ddg = law_shape(u_return, return_law)
+    s = np.select([part == 0, part == 1, part == 2], [lift * f, lift, lift * (1 - g)], 0.0)
+    ds = np.select([part == 0, part == 2], [lift * df / rise_angle, -lift * dg / return_angle],
+                   0.0)
+    dds = np.select([part == 0, part == 2], [lift * ddf / rise_angle ** 2,
+                                             -lift * ddg / return_angle ** 2], 0.0)
+    return s, ds, dds
+
+
+def pitch_curve(cam_angle, displacement, offset, base_radius, rotation):
+    """(x, y) of the roller centre on the cam [m] (R07's sense for rotation = +1)."""
+    delta = np.asarray(cam_angle, dtype=float)
+    s0 = np.sqrt(base_radius ** 2 - offset ** 2)
+    x = (s0 + displacement) * np.sin(delta) + offset * np.cos(delta)
+    y = (s0 + displacement) * np.cos(delta) - offset * np.sin(delta)
+    return rotation * x, y
+
+
+def _pitch_derivatives(delta, s, ds, dds, offset, s0):
+    r = s0 + s
+    x1 = ds * np.sin(delta) + r * np.cos(delta) - offset * np.sin(delta)
+    y1 = ds * np.cos(delta) - r * np.sin(delta) - offset * np.cos(delta)
+    x2 = dds * np.sin(delta) + 2 * ds * np.cos(delta) - r * np.sin(delta) \
+        - offset * np.cos(delta)
+    y2 = dds * np.cos(delta) - 2 * ds * np.sin(delta) - r * np.cos(delta) \
+        + offset * np.sin(delta)
+    return x1, y1, x2, y2
+
+
+def pitch_curvature_radius(cam_angle, displacement, slope, curvature, offset, base_radius):
+    """Radius of curvature of the pitch curve, positive where convex [m].
+
+    ``slope`` and ``curvature`` are ds/dδ and d²s/dδ² [m/rad, m/rad²].
+    """
+    s0 = np.sqrt(base_radius ** 2 - offset ** 2)
+    x1, y1, x2, y2 = _pitch_derivatives(np.asarray(cam_angle, dtype=float), displacement,
+                                        slope, curvature, offset, s0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return -(x1 ** 2 + y1 ** 2) ** 1.5 / (x1 * y2 - y1 * x2)
+
+
+def roller_profile(cam_angle, displacement, slope, offset, base_radius, roller_radius,
+                   rotation):
+    """(x, y) of the actual (roller) profile: the inner envelope of the roller [m]."""
+    delta = np.asarray(cam_angle, dtype=float)
+    s0 = np.sqrt(base_radius ** 2 - offset ** 2)
+    x, y = pitch_curve(delta, displacement, offset, base_radius, 1)
+    x1, y1, _, _ = _pitch_derivatives(delta, displacement, slope, 0.0, offset, s0)
+    length = np.hypot(x1, y1)
+    return rotation * (x + roller_radius * y1 / length), y - roller_radius * x1 / length
+
+
+def pressure_angle(displacement, slope, offset, base_radius):
+    """α = atan((ds/dδ − e)/(s0 + s)) [rad]."""
+    s0 = np.sqrt(base_radius ** 2 - offset ** 2)
+    return np.arctan((slope - offset) / (s0 + displacement))
+
+
+def required_base_radius(displacement, slope, offset, allowable):
+    """The smallest base radius keeping |α| ≤ ``allowable`` at each δ [m]:
+    s0 ≥ |ds/dδ − e|/tan[α] − s, r0 = √(s0² + e²)."""
+    s0 = np.maximum(np.abs(slope - offset) / np.tan(allowable) - displacement, 0.0)
+    return np.sqrt(s0 ** 2 + offset ** 2)
+
+
+def cam_angular_velocity(crank_speed, gear_ratio):
+    """ω_cam = ω_crank/i [rad/s] (a four-stroke camshaft turns at half the crank speed)."""
+    return crank_speed / gear_ratio
