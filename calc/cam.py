@@ -144,3 +144,189 @@ def required_base_radius(displacement, slope, offset, allowable):
 def cam_angular_velocity(crank_speed, gear_ratio):
     """ω_cam = ω_crank/i [rad/s] (a four-stroke camshaft turns at half the crank speed)."""
     return crank_speed / gear_ratio
+
+
+# ---------------------------------------------------------------- the workbook's columns
+# One function per column of a cam block; arguments named as the block's inputs
+# (cam_lift, cam_rise_angle, …), which each cam's placement maps to its own.
+def _motion(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
+            cam_rise_law, cam_return_law):
+    return follower_derivatives(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell,
+                                cam_return_angle, cam_rise_law, cam_return_law)
+
+
+def displacement(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
+                 cam_rise_law, cam_return_law):
+    """Follower displacement s(δ) [m]."""
+    return _motion(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
+                   cam_rise_law, cam_return_law)[0]
+
+
+def slope(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
+          cam_rise_law, cam_return_law):
+    """ds/dδ [m/rad]."""
+    return _motion(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
+                   cam_rise_law, cam_return_law)[1]
+
+
+def second_slope(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
+                 cam_rise_law, cam_return_law):
+    """d²s/dδ² [m/rad²]."""
+    return _motion(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
+                   cam_rise_law, cam_return_law)[2]
+
+
+def times_speed(value, cam_angular_velocity, power=1):
+    """A derivative in δ times ω^power: per second [m/s or m/s²]."""
+    return np.asarray(value) * cam_angular_velocity ** power
+
+
+def times_speed_squared(value, cam_angular_velocity):
+    """d²s/dδ²·ω² [m/s²]."""
+    return times_speed(value, cam_angular_velocity, 2)
+
+
+def pitch_x(cam_angle, cam_displacement, cam_offset, cam_base_radius, cam_rotation):
+    """x of the pitch curve [m]."""
+    return pitch_curve(cam_angle, cam_displacement, cam_offset, cam_base_radius,
+                       cam_rotation)[0]
+
+
+def pitch_y(cam_angle, cam_displacement, cam_offset, cam_base_radius, cam_rotation):
+    """y of the pitch curve [m]."""
+    return pitch_curve(cam_angle, cam_displacement, cam_offset, cam_base_radius,
+                       cam_rotation)[1]
+
+
+def profile_x(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius,
+              cam_roller_radius, cam_rotation):
+    """x of the actual (roller) profile [m]."""
+    return roller_profile(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius,
+                          cam_roller_radius, cam_rotation)[0]
+
+
+def profile_y(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius,
+              cam_roller_radius, cam_rotation):
+    """y of the actual (roller) profile [m]."""
+    return roller_profile(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius,
+                          cam_roller_radius, cam_rotation)[1]
+
+
+def pressure_angle_column(cam_displacement, cam_slope, cam_offset, cam_base_radius):
+    """Pressure angle α(δ) [rad]."""
+    return pressure_angle(cam_displacement, cam_slope, cam_offset, cam_base_radius)
+
+
+def curvature_column(cam_angle, cam_displacement, cam_slope, cam_second_slope, cam_offset,
+                     cam_base_radius):
+    """Radius of curvature of the pitch curve, convex positive [m]."""
+    return pitch_curvature_radius(cam_angle, cam_displacement, cam_slope, cam_second_slope,
+                                  cam_offset, cam_base_radius)
+
+
+def required_base_radius_column(cam_angle, cam_displacement, cam_slope, cam_offset,
+                                cam_rise_angle, cam_far_dwell, cam_allowable_pressure_angle,
+                                cam_allowable_return_pressure_angle):
+    """The smallest base radius meeting [α] on the rise (and far dwell) and [α]′ on the
+    return (and near dwell), at each δ [m]."""
+    allowed = np.where(piece(cam_angle, cam_rise_angle, cam_far_dwell, 1.0) <= 1,
+                       cam_allowable_pressure_angle, cam_allowable_return_pressure_angle)
+    return required_base_radius(cam_displacement, cam_slope, cam_offset, allowed)
+
+
+def rise_part_max(values, cam_angle, cam_rise_angle, cam_far_dwell):
+    """Largest |value| over the rise and the far dwell."""
+    mask = np.mod(np.asarray(cam_angle), 2 * np.pi) < cam_rise_angle + cam_far_dwell - 1e-12
+    mask &= np.asarray(cam_angle) < 2 * np.pi - 1e-12
+    return float(np.max(np.abs(np.asarray(values)[mask])))
+
+
+def return_part_max(values, cam_angle, cam_rise_angle, cam_far_dwell):
+    """Largest |value| over the return and the near dwell."""
+    mask = ~(np.mod(np.asarray(cam_angle), 2 * np.pi) < cam_rise_angle + cam_far_dwell - 1e-12)
+    mask |= np.asarray(cam_angle) >= 2 * np.pi - 1e-12
+    return float(np.max(np.abs(np.asarray(values)[mask])))
+
+
+def convex_min(values):
+    """Smallest positive value (the sharpest convex part) [same unit]."""
+    values = np.asarray(values, dtype=float)
+    positive = values[np.isfinite(values) & (values > 0)]
+    return float(positive.min()) if positive.size else np.nan
+
+
+def base_offset(cam_base_radius, cam_offset):
+    """s0 = √(r0² − e²) [m]."""
+    return np.sqrt(cam_base_radius ** 2 - cam_offset ** 2)
+
+
+def pitch_dx(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius):
+    """dx/dδ of the (unmirrored) pitch curve [m/rad]."""
+    s0 = base_offset(cam_base_radius, cam_offset)
+    return _pitch_derivatives(np.asarray(cam_angle, dtype=float), cam_displacement, cam_slope,
+                              0.0, cam_offset, s0)[0]
+
+
+def pitch_dy(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius):
+    """dy/dδ of the pitch curve [m/rad]."""
+    s0 = base_offset(cam_base_radius, cam_offset)
+    return _pitch_derivatives(np.asarray(cam_angle, dtype=float), cam_displacement, cam_slope,
+                              0.0, cam_offset, s0)[1]
+
+
+def checks_pass(cam_max_pressure_angle, cam_allowable_pressure_angle,
+                cam_max_return_pressure_angle, cam_allowable_return_pressure_angle,
+                cam_min_curvature_radius, cam_roller_radius, cam_base_radius,
+                cam_min_base_radius_allowed):
+    """1 when the pressure angles are within [α] and [α]′, the convex pitch curve is
+    sharper nowhere than the roller, and r0 ≥ r0min; else 0."""
+    ok = (cam_max_pressure_angle <= cam_allowable_pressure_angle
+          and cam_max_return_pressure_angle <= cam_allowable_return_pressure_angle
+          and cam_min_curvature_radius > cam_roller_radius
+          and cam_base_radius >= cam_min_base_radius_allowed)
+    return 1.0 if ok else 0.0
+
+
+# ---------------------------------------------------------------- valve timing
+def event_after(dead_centre, event):
+    """A valve event's crank angle: the dead centre plus the event [rad]."""
+    return dead_centre + event
+
+
+def event_after_second_bdc(dead_centre, event):
+    """An event about the second revolution's BDC, 2π + (π + θ) + event [rad]."""
+    return 2 * np.pi + dead_centre + event
+
+
+def event_after_cycle(event):
+    """An event about the end of the cycle (TDC at 4π) [rad]."""
+    return 4 * np.pi + event
+
+
+def duration(opens, closes):
+    """closes − opens [rad]."""
+    return closes - opens
+
+
+def working_angle(ratio, rise_angle, far_dwell, return_angle):
+    """The crank angle a cam keeps its valve open, i·(Φ + Φs + Φ′) [rad]."""
+    return ratio * (rise_angle + far_dwell + return_angle)
+
+
+def durations_match(intake_open_duration, intake_cam_working_angle, exhaust_open_duration,
+                    exhaust_cam_working_angle):
+    """1 when both open durations equal their cams' working angles within 0.5°, else 0."""
+    half = np.radians(0.5)
+    return 1.0 if (abs(intake_open_duration - intake_cam_working_angle) <= half + 1e-12
+                   and abs(exhaust_open_duration - exhaust_cam_working_angle) <= half + 1e-12) \
+        else 0.0
+
+
+def mounting_angle(open_angle, ratio):
+    """Cam angle at crank angle 0: (−φ_open/i) mod 2π [rad]."""
+    return np.mod(-open_angle / ratio, 2 * np.pi)
+
+
+def cam_angle_at(crank_angle, open_angle, ratio):
+    """The cam angle at each crank angle, ((φ − φ_open)/i) mod 2π [rad]."""
+    return np.mod((np.asarray(crank_angle, dtype=float) - open_angle) / ratio, 2 * np.pi)

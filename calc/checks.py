@@ -64,3 +64,18 @@ def throw_missing(check_throw, throw):
 def band_reversed(fatigue_band_min, fatigue_band_max):
     """1 where a band's lower end exceeds its upper end."""
     return _flag(fatigue_band_min > fatigue_band_max)
+
+
+def base_not_outside_offset(base_radius, offset):
+    """1 where a cam's base radius does not exceed |e| (no s0 = √(r0² − e²))."""
+    return _flag(base_radius <= np.abs(offset))
+
+
+def angles_beyond_a_turn(rise_angle, far_dwell, return_angle):
+    """1 where rise, far dwell and return take more than a turn."""
+    return _flag(rise_angle + far_dwell + return_angle > 2 * np.pi * (1 + 1e-12))
+
+
+def zero_rotation(rotation):
+    """1 where a sense of rotation is 0 (it must be 1 or −1)."""
+    return _flag(np.asarray(rotation) == 0)

@@ -100,12 +100,13 @@ def tip_thickness(tooth_thickness, reference_diameter, tip_diameter, pressure_an
 
 
 def teeth_spanned(teeth, shift, pressure_angle):
-    """k = round(z/π·(tan α_x − 2x·tan α/z − inv α) + 0.5), α_x = acos(z·cos α/(z + 2x))."""
+    """k = round(z/π·(tan α_x − 2x·tan α/z − inv α) + 0.5), α_x = acos(z·cos α/(z + 2x)),
+    a tie rounded up (z/9 + 0.5 is a tie for z = 36: rounding noise must not decide it)."""
     teeth = np.asarray(teeth, dtype=float)
     alpha_x = np.arccos(teeth * np.cos(pressure_angle) / (teeth + 2 * np.asarray(shift)))
     return np.floor(teeth / np.pi * (np.tan(alpha_x) - 2 * np.asarray(shift)
                                      * np.tan(pressure_angle) / teeth
-                                     - involute(pressure_angle)) + 0.5 + 0.5)
+                                     - involute(pressure_angle)) + 1.000000001)
 
 
 def base_tangent_length(teeth, shift, module, pressure_angle, teeth_spanned):
@@ -148,3 +149,80 @@ def train(teeth, shift, module, pressure_angle, addendum_coefficient, clearance_
             "W": base_tangent_length(z, x, module, pressure_angle, k),
             "a": a, "alpha_w": alpha_w, "a_w": a_w, "y": y, "dy": dy,
             "epsilon": contact_ratio(z[:-1], z[1:], alpha_a[:-1], alpha_a[1:], alpha_w)}
+
+
+# ---------------------------------------------------------------- the workbook's columns
+def mesh_count(teeth):
+    """Meshes of a train: one fewer than its gears."""
+    return int(np.size(teeth)) - 1
+
+
+def mesh_numbers(teeth):
+    """1 … number of meshes."""
+    return np.arange(1, np.size(teeth), dtype=float)
+
+
+def mesh_centre_distances(teeth, module):
+    """a of each mesh [m]."""
+    z = np.asarray(teeth, dtype=float)
+    return centre_distance(z[:-1], z[1:], module)
+
+
+def mesh_involutes(teeth, shift, pressure_angle):
+    """inv α′ of each mesh [rad]."""
+    z, x = np.asarray(teeth, dtype=float), np.asarray(shift, dtype=float)
+    return working_pressure_angle_involute(x[:-1], x[1:], z[:-1], z[1:], pressure_angle)
+
+
+def newton_iterates(involute_value, step_index):
+    """α_k of Newton's method on inv α = value, one row per step, one column per mesh
+    (the workbook's cells, step for step) [rad]."""
+    value = np.asarray(involute_value, dtype=float)
+    rows = [np.cbrt(3 * value)]
+    for _ in range(np.size(step_index) - 1):
+        a = rows[-1]
+        rows.append(a - (np.tan(a) - a - value) / np.tan(a) ** 2)
+    return np.vstack(rows)
+
+
+def last_iterate(iterates):
+    """The converged α′ of each mesh [rad]."""
+    return np.asarray(iterates, dtype=float)[-1]
+
+
+def mesh_tip_reductions(shift, modification):
+    """Δy = x1 + x2 − y of each mesh [-]."""
+    x = np.asarray(shift, dtype=float)
+    return x[:-1] + x[1:] - np.asarray(modification, dtype=float)
+
+
+def gear_tip_reduction(tip_reduction):
+    """Per gear the larger Δy of the meshes it is in [-]."""
+    dy = np.asarray(tip_reduction, dtype=float)
+    before = np.concatenate([[-np.inf], dy])
+    after = np.concatenate([dy, [-np.inf]])
+    return np.maximum(before, after)
+
+
+def plus_twice(base, extra):
+    """base + 2·extra (a tip diameter)."""
+    return np.asarray(base) + 2 * np.asarray(extra)
+
+
+def minus_twice(base, extra):
+    """base − 2·extra (a root diameter)."""
+    return np.asarray(base) - 2 * np.asarray(extra)
+
+
+def mesh_contact_ratios(teeth, tip_pressure_angle, working_pressure_angle):
+    """ε of each mesh [-]."""
+    z, aa = np.asarray(teeth, dtype=float), np.asarray(tip_pressure_angle, dtype=float)
+    return contact_ratio(z[:-1], z[1:], aa[:-1], aa[1:], working_pressure_angle)
+
+
+def gear_checks(gear_shift, gear_min_shift, gear_tip_thickness, gear_min_tip_thickness,
+                gear_module):
+    """1 per gear with x ≥ x_min and s_a ≥ the smallest tip thickness, else 0."""
+    return np.where((np.asarray(gear_shift) >= np.asarray(gear_min_shift) - 1e-6)
+                    & (np.asarray(gear_tip_thickness) >= gear_min_tip_thickness * gear_module),
+                    1.0, 0.0)

@@ -38,7 +38,8 @@ WORKBOOKS = {
     # the course design (issue 4) ------------------------------------------------
     "course": {"args": ["--preset", "course-design"]},
     "course_group1_en": {"args": ["--preset", "course-design", "--group", "1", "--lang", "en"]},
-    "course_group6_step2": {"args": ["--preset", "course-design", "--group", "6", "--step", "2"]},
+    "course_group6_step2": {"args": ["--preset", "course-design", "--group", "6", "--step", "2",
+                                     "--cam-step", "3"]},
     "course_group12": {"args": ["--preset", "course-design", "--group", "12"]},
     # a measured trace whose points fall exactly on grid and position angles (30°, …)
     "course_measured": {"args": ["--preset", "course-design", "--pressure", "{course_trace}",
@@ -46,6 +47,16 @@ WORKBOOKS = {
     "course_edited": {"edit_of": "course", "edits": {"time_ratio": 1.12, "offset": 35.0,
                                                      "speed": 900.0, "crank_cg_ratio": 0.0}},
     "optimization": {"args": ["--preset", "offset-optimization"]},
+    # the valve train (issue 13), typed into the cells: laws, a mirrored cam, gears
+    "course_edit_valve_train": {"edit_of": "course",
+                                "edits": {"intake_rise_law": "cycloidal",
+                                          "intake_return_law": "3-4-5",
+                                          "exhaust_rise_law": "constant_acceleration",
+                                          "exhaust_return_law": "constant_velocity",
+                                          "exhaust_rotation": -1.0, "intake_offset": -4.0,
+                                          "gear_teeth": [21.0, 15.0, 42.0],
+                                          "gear_shift": [0.0, 0.11765, 0.0],
+                                          "gear_module": 4.0, "intake_opens": -12.0}},
     # multi-cylinder layouts (issue 11) ------------------------------------------
     "inline4": {"args": ["--preset", "inline-4", "--step", "4"]},
     "inline6_step3": {"args": ["--preset", "inline-6", "--step", "3"]},

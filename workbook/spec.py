@@ -181,6 +181,7 @@ class Chart:
     """A native chart: ``y`` series against ``x`` (the sheet's grid when None)."""
     y: tuple
     x: str | None = None
+    x_each: tuple = ()            # an x per y curve (x–y charts of several curves)
     title_zh: str = ""
     title_en: str = ""
     axis_zh: str = ""

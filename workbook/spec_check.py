@@ -43,7 +43,9 @@ def check(spec):
         _check_quantity(spec, q, known)
     for s in spec.sheets:
         for chart in s.charts:
-            for key in chart.y + ((chart.x,) if chart.x else ()):
+            if chart.x_each and len(chart.x_each) != len(chart.y):
+                raise SpecError(spec.file, s.key, "x_each needs one x per y")
+            for key in chart.y + ((chart.x,) if chart.x else ()) + chart.x_each:
                 q = spec.quantity.get(key)
                 on_items = s.kind == "items" and q is not None and q.items == s.axis
                 if q is None or not (q.is_series or on_items):

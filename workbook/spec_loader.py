@@ -221,13 +221,13 @@ def _summary_quantities(grids, series):
 def _chart(entry, sheet_entry, file):
     if isinstance(entry, (list, tuple)):
         entry = {"y": list(entry)}
-    known = {"y", "x", "title_zh", "title_en", "axis_zh", "axis_en", "unit", "x_axis_zh",
+    known = {"y", "x", "x_each", "title_zh", "title_en", "axis_zh", "axis_en", "unit", "x_axis_zh",
              "x_axis_en", "x_unit", "equal_axes", "type", "log"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, sheet_entry["key"], f"chart: unknown field(s) "
                                                   f"{', '.join(sorted(unknown))}")
-    return Chart(y=tuple(entry["y"]), x=entry.get("x"),
+    return Chart(y=tuple(entry["y"]), x=entry.get("x"), x_each=tuple(entry.get("x_each", ())),
                  title_zh=entry.get("title_zh", sheet_entry.get("title_zh", "")),
                  title_en=entry.get("title_en", sheet_entry.get("title_en", "")),
                  axis_zh=entry.get("axis_zh", sheet_entry.get("axis_zh", "")),

@@ -100,7 +100,10 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
             continue                      # inputs the task does not use
         row += 1
         task.write(row, 0, parameter.key, styles.key)
-        task.write_number(row, 1, float(values[parameter.key]))
+        if parameter.kind == "choice":            # the word, as the full workbook shows it
+            task.write_string(row, 1, parameter.choices[int(values[parameter.key]) - 1])
+        else:
+            task.write_number(row, 1, float(values[parameter.key]))
         task.write(row, 2, unit_text(parameter.unit))
         task.write(row, 3, parameter.zh, styles.text)
         task.write(row, 4, parameter.en, styles.text)

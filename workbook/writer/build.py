@@ -94,8 +94,7 @@ def _write(build, layout, filename):
             write_items_sheet(book, plans[sheet_spec.key], layout, values, results, styles)
         else:
             write_series_sheet(book, sheet_spec, layout, {**results, **table_values}, styles)
-    if spec.print_step:
-        write_charts_sheet(book, layout, {**results, **table_values}, styles)
+    write_charts_sheet(book, layout, {**results, **table_values}, styles)
     layout.define_all()
     for name in sorted(layout.defined_names):
         book.define_name(name, layout.defined_names[name])

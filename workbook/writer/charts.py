@@ -69,7 +69,10 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
     x_ranges = _ranges(layout, x_key, results) if chart_spec.x else \
         [(None, f"{quote_sheet(sheet)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}")]
     curves, xs, ys = 0, [], []
-    for key in chart_spec.y:
+    for number, key in enumerate(chart_spec.y):
+        if chart_spec.x_each:             # each curve its own x (a cam's two profiles)
+            x_key = chart_spec.x_each[number]
+            x_ranges = _ranges(layout, x_key, results)
         for index, (name, values) in enumerate(_ranges(layout, key, results,
                                                         short=bool(chart_spec.x))):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]

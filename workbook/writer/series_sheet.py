@@ -70,8 +70,9 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
         chart = add_chart(book, chart_spec, sheet_spec, layout, results)
         # Anchored below the header rows, which repeat on every printed page.
         ws.insert_chart(FIRST_ROW + index * CHART_ROWS, chart_col, chart, {"x_offset": 10})
-    step = sheet_spec.print_step or spec.print_step
-    if step and sheet_spec.grid == spec.grid.key:
+    step = sheet_spec.print_step or (spec.print_step if sheet_spec.grid == spec.grid.key
+                                     else None)
+    if step:
         _group_between_print_steps(ws, grid, step, layout, styles)
     landscape_report(ws, layout, sheet_spec, len(grid), last_col, chart_col)
     # the table prints; its charts print on the Charts sheet, two to a page
