@@ -23,6 +23,7 @@ ROSTER = [f"s{n:02d}" for n in range(1, 14)]
 NAMES = {sid: f"学生{n}号" for n, sid in enumerate(ROSTER, start=1)}
 ASSIGNMENT = templates.load("course-design")
 POSITION_ITEMS = [k for s in ASSIGNMENT.sheets if s.rows == "positions" for k in s.items]
+CAM_ITEMS = [k for s in ASSIGNMENT.sheets if s.rows == "cam_angle" for k in s.items]
 
 
 def write_roster(path, ids, encoding="gbk", headers=("学号", "姓名", "班级")):
@@ -55,10 +56,16 @@ def key_answers(pack, sid, order="guide"):
     position tables row by row in the guide's order (or the key's own order)."""
     names = named(pack / "keys" / f"{sid}.xlsx")
     rows = guide_order(names) if order == "guide" else list(range(30))
+    cam_grid = list(names["q_cam_angle"])
+    cam_rows = [cam_grid.index(a) for a in ASSIGNMENT.row_angles["cam_angle"]]
     out = {}
     for item in ASSIGNMENT.items:
         value = names[f"q_{item.key}"]
-        out[item.key] = [value[i] for i in rows] if item.key in POSITION_ITEMS else value
+        if item.key in POSITION_ITEMS:
+            value = [value[i] for i in rows]
+        elif item.key in CAM_ITEMS:           # asked at the listed cam angles
+            value = [value[i] for i in cam_rows]
+        out[item.key] = value
     return out
 
 

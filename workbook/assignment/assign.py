@@ -57,7 +57,7 @@ def write_student(job):
     trace = given_trace(assignment, spec, values)
     given = {"crank_angle": trace[0], "pressure": trace[1]} if trace is not None else {}
     write_student_workbook(staging / "students" / f"{sid}.xlsx", assignment, spec, row, values,
-                           given, lang, answer_rows(assignment, lang, key.results))
+                           given, lang, answer_rows(assignment, lang, key.results, spec))
     return sid
 
 

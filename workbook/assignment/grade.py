@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from crankbook import params
+from crankbook.evaluate import axis_sizes
 from crankbook.assignment import template as templates
 from crankbook.assignment.assign import MANIFEST, RUBRIC, SETTINGS
 from crankbook.assignment.key import answer_rows, expected, key_results
@@ -75,10 +76,16 @@ def load_directory(directory):
     return settings, assignment, roster
 
 
-def answer_shapes(assignment, lang, spec):
-    """a_ key -> number of cells each answer name must have."""
+def answer_shapes(assignment, lang, spec, values=None):
+    """a_ key -> number of cells each answer name must have (``values``: a student's
+    parameters, for rows that are items of an axis)."""
     rows = {"positions": len(assignment.positions.labels(lang)) if assignment.positions else 0,
             "crank_angle": len(assignment.grid_angles or ())}
+    rows.update({grid: len(angles) for grid, angles in assignment.row_angles.items()})
+    if values is not None:
+        rows.update(axis_sizes(spec, values))
+    else:
+        rows.update({axis.key: axis.max for axis in spec.axes})   # the bound, before values
     return {key: 1 if sheet.rows == "scalar" else rows[sheet.rows]
             for sheet in assignment.sheets for key in sheet.items}
 
@@ -108,7 +115,7 @@ def grade_submission(sub, manifest_row, assignment, spec, preset, lang):
                 abs_tol=item.abs_floor):
             upstream[name] = number
     own = expected(assignment, spec, key, overrides=upstream) if upstream else None
-    labels = answer_rows(assignment, lang, key.results)
+    labels = answer_rows(assignment, lang, key.results, spec)
     pairing, problems = None, []
     if assignment.positions is not None:
         positions = assignment.positions

@@ -31,13 +31,21 @@ def key_results(assignment, spec, preset, values):
     return results_for(spec, preset, dict(values, pressure_source=1.0), tables)
 
 
-def answer_rows(assignment, lang, results):
+def answer_rows(assignment, lang, results, spec=None):
     """Row kind -> the labels of the rows of the answer sheets."""
     rows = {}
     if assignment.positions is not None:
         rows["positions"] = assignment.positions.labels(lang)
     if assignment.grid_angles is not None:
         rows["crank_angle"] = list(assignment.grid_angles)
+    for grid, angles in assignment.row_angles.items():
+        rows[grid] = list(angles)
+    if spec is not None:
+        for sheet in assignment.sheets:
+            if sheet.rows in spec.axis:            # one row per gear, mesh, …
+                count = len(np.atleast_1d(results[sheet.items[0]]))
+                rows[sheet.rows] = [spec.axis[sheet.rows].label(lang, i + 1)
+                                    for i in range(count)]
     return rows
 
 
@@ -60,10 +68,17 @@ def expected(assignment, spec, key, overrides=None):
         at_rows = evaluate(spec, key.values, key.tables, np.asarray(assignment.grid_angles, float),
                            overrides=overrides)
     order = assignment.positions.guide_rows(results) if assignment.positions else None
+    at_angles = {}
+    for grid, angles in assignment.row_angles.items():
+        at_angles[grid] = evaluate(spec, key.values, key.tables,
+                                   {**_grids(spec, key), grid: np.asarray(angles, float)},
+                                   overrides=overrides)
     out = {}
     for item in assignment.items:
         def rows_of(name):
             q = spec.quantity[name]
+            if q.is_series and q.grid in at_angles:
+                return np.atleast_1d(np.asarray(at_angles[q.grid][name], float))
             if q.is_series and assignment.grid_angles is not None and q.grid == spec.grid.key:
                 return np.atleast_1d(np.asarray(at_rows[name], float))
             value = np.atleast_1d(np.asarray(results[name], float))

@@ -63,7 +63,7 @@ def _write(filename, assignment, spec, student, values, given, lang, rows):
         _given_sheet(book, given, lang, styles, define)
     answer = styles.number("-", "General", role="input")
     for sheet in assignment.sheets:
-        _answer_sheet(book, sheet, assignment, lang, styles, define, answer, rows)
+        _answer_sheet(book, sheet, assignment, spec, lang, styles, define, answer, rows)
     for ws in book.worksheets():
         landscape_page(ws)
     for name in sorted(names):
@@ -136,7 +136,7 @@ def _given_sheet(book, given, lang, styles, define):
     sheet.repeat_rows(3, 4)
 
 
-def _answer_sheet(book, answer_sheet, assignment, lang, styles, define, answer, rows):
+def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, answer, rows):
     name = answer_sheet.zh if lang == "zh" else answer_sheet.en
     ws = book.add_worksheet(name)
     ws.write(0, 0, name, styles.title)
@@ -160,8 +160,12 @@ def _answer_sheet(book, answer_sheet, assignment, lang, styles, define, answer, 
         return
     labels = rows[answer_sheet.rows]
     ws.set_column(0, 0, 26)
-    title = both("位置", "Position", lang) if answer_sheet.rows == "positions" else \
-        both("曲轴转角 α [°]", "Crank angle α [°]", lang)
+    titles = {"positions": both("位置", "Position", lang),
+              "crank_angle": both("曲轴转角 α [°]", "Crank angle α [°]", lang),
+              "cam_angle": both("凸轮转角 δ [°]", "Cam angle δ [°]", lang)}
+    axis = spec.axis.get(answer_sheet.rows)
+    title = titles.get(answer_sheet.rows) or (both(axis.label_zh, axis.label_en, lang)
+                                              if axis is not None else answer_sheet.rows)
     ws.write(3, 0, title, styles.header)
     ws.write(4, 0, "", styles.unit)
     for i, text in enumerate(labels):

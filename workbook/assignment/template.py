@@ -34,7 +34,8 @@ class AnswerSheet:
     key: str
     zh: str
     en: str
-    rows: str                     # "scalar", "positions", or a grid whose rows are given
+    rows: str                     # "scalar", "positions", "crank_angle" (grid_angles), a grid
+                                  # of row_angles, or an axis (one row per gear, mesh, …)
     items: tuple
 
 
@@ -87,6 +88,7 @@ class Assignment:
     positions: Positions | None = None
     items: list = field(default_factory=list)
     task_groups: tuple | None = None   # parameter groups the Task sheet shows (None: all)
+    row_angles: dict = field(default_factory=dict)   # grid key -> the angles asked for
 
     @property
     def item(self):
@@ -163,4 +165,6 @@ def load(name, path=None):
                       grid_angles=tuple(head["grid_angles"]) if "grid_angles" in head else None,
                       variant=data["variant"], constraints=data.get("constraints", {}),
                       rubric=rubric, sheets=sheets, positions=positions, items=items,
-                      task_groups=tuple(head["task_groups"]) if "task_groups" in head else None)
+                      task_groups=tuple(head["task_groups"]) if "task_groups" in head else None,
+                      row_angles={k: tuple(float(a) for a in v)
+                                  for k, v in head.get("row_angles", {}).items()})
