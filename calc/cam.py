@@ -330,3 +330,8 @@ def mounting_angle(open_angle, ratio):
 def cam_angle_at(crank_angle, open_angle, ratio):
     """The cam angle at each crank angle, ((φ − φ_open)/i) mod 2π [rad]."""
     return np.mod((np.asarray(crank_angle, dtype=float) - open_angle) / ratio, 2 * np.pi)
+
+
+def roller_fits(cam_min_curvature_radius, cam_roller_radius):
+    """1 where the roller is smaller than the sharpest convex part of the pitch curve."""
+    return 1.0 if cam_min_curvature_radius > cam_roller_radius else 0.0

@@ -226,3 +226,8 @@ def gear_checks(gear_shift, gear_min_shift, gear_tip_thickness, gear_min_tip_thi
     return np.where((np.asarray(gear_shift) >= np.asarray(gear_min_shift) - 1e-6)
                     & (np.asarray(gear_tip_thickness) >= gear_min_tip_thickness * gear_module),
                     1.0, 0.0)
+
+
+def tip_not_pointed(tip_thickness):
+    """1 per gear whose tip is thicker than nothing, else 0."""
+    return np.where(np.asarray(tip_thickness) > 0, 1.0, 0.0)

@@ -69,6 +69,8 @@ def test_valve_timing_identities():
     ({"intake_return_law": "spline"}, ParameterValueError, "must be one of"),
     ({"gear_teeth": [36, 4, 72]}, ParameterValueError, "gear 2"),
     ({"gear_teeth": [36, 72]}, LayoutError, "set together"),
+    ({"intake_roller_radius": 25.0}, CrankbookError, "roller radius must be smaller"),
+    ({"gear_shift": [0.0, 1.5, 0.0]}, CrankbookError, "gear 2: .*pointed"),
 ])
 def test_bad_valve_train_inputs(sets, error, words):
     with pytest.raises(error, match=words):

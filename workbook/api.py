@@ -183,9 +183,24 @@ def results_for(spec, preset, values, tables=None, steps=None):
     grids = build_grids(spec, steps)
     results = evaluate(spec, values, tables, grids)
     _check_written_values(spec, values, results)
+    _check_must_pass(spec, results)
     return Results(spec=spec, template=preset["template"], preset=preset, values=values,
                    tables=tables, steps=steps, results=results,
                    axis_sizes=axis_sizes(spec, values))
+
+
+def _check_must_pass(spec, results):
+    """A check marked must_pass (a computed condition no input rule can state, e.g. a
+    roller larger than the cam's sharpest curvature) refuses the build in one line,
+    naming the item."""
+    for q in spec.quantities():
+        if not q.must_pass:
+            continue
+        flags = np.atleast_1d(np.asarray(results[q.key], dtype=float))
+        failed = np.flatnonzero(flags == 0)
+        if failed.size:
+            where = f"{spec.axis[q.items].label_en.lower()} {failed[0] + 1}: " if q.items else ""
+            raise GeometryError(f"{where}q_{q.key} = 0: {q.en}")
 
 
 def _check_written_values(spec, values, results):

@@ -18,8 +18,8 @@ import numpy as np
 
 import re
 
-from crankbook.calc import (cam, cycle, forces, gears, kinematics, mechanism, multicylinder,
-                            optimization)
+from crankbook.calc import (cam, compressor, crankshaft, cycle, forces, gears, kinematics,
+                            mechanism, multicylinder, optimization)
 from crankbook.toml_files import names_in, read_named
 
 CLAIMS = "claims"
@@ -34,7 +34,7 @@ HELPERS = {
     "degrees": math.degrees, "log10": math.log10, "exp": math.exp,
     "np": np, "kinematics": kinematics, "forces": forces, "mechanism": mechanism,
     "optimization": optimization, "cycle": cycle, "multicylinder": multicylinder,
-    "gears": gears, "cam": cam,
+    "gears": gears, "cam": cam, "compressor": compressor, "crankshaft": crankshaft,
 }
 
 

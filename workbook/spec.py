@@ -142,6 +142,7 @@ class Quantity:
     chart_range: tuple = ()       # grids: chart x-axis (min, max, major unit)
     names: tuple = ()             # rules: the parameters the rule is about
     discrete: bool = False        # an index or a grid angle: agrees exactly or not at all
+    must_pass: bool = False       # a 1/0 check: 0 refuses the build with one line
     source: str = ""              # the template file that defines it
 
     @property

@@ -77,7 +77,7 @@ def _quantity(entry, kind, **extra):
     for field in ("key", "unit", "zh", "en"):
         _need(entry, field, kind)
     known = {"key", "unit", "zh", "en", "formula", "calc", "args", "summary", "format", "first",
-             "guard", "array", "items", "_file", "_prefix", "names", "discrete"}
+             "guard", "array", "items", "_file", "_prefix", "names", "discrete", "must_pass"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, entry["key"], f"unknown field(s) {', '.join(sorted(unknown))}")
@@ -88,6 +88,7 @@ def _quantity(entry, kind, **extra):
                     guard=entry.get("guard", True), array=entry.get("array", False),
                     items=entry.get("items"), names=tuple(entry.get("names", ())),
                     discrete=entry.get("discrete", False),
+                    must_pass=entry.get("must_pass", False),
                     source=file, **extra)
 
 

@@ -47,6 +47,9 @@ def acceptable(assignment, spec, values):
         out = evaluate.evaluate(spec, values, {}, evaluate.crank_angle_grid(spec, 30.0))
     except CrankbookError:
         return False
+    if any(np.any(np.asarray(out[q.key], dtype=float) == 0)
+           for q in spec.quantities() if q.must_pass):
+        return False                     # e.g. a roller that undercuts the cam
     bound = assignment.constraints.get("min_transmission_angle")
     if bound is not None and out.get("min_transmission_angle", 90.0) < bound:
         return False
