@@ -231,3 +231,9 @@ def gear_checks(gear_shift, gear_min_shift, gear_tip_thickness, gear_min_tip_thi
 def tip_not_pointed(tip_thickness):
     """1 per gear whose tip is thicker than nothing, else 0."""
     return np.where(np.asarray(tip_thickness) > 0, 1.0, 0.0)
+
+
+def train_ratio(teeth):
+    """Crank to camshaft: z_last/z_first (idlers do not change it) [-]."""
+    z = np.asarray(teeth, dtype=float)
+    return z[-1] / z[0]
