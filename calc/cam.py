@@ -335,3 +335,14 @@ def cam_angle_at(crank_angle, open_angle, ratio):
 def roller_fits(cam_min_curvature_radius, cam_roller_radius):
     """1 where the roller is smaller than the sharpest convex part of the pitch curve."""
     return 1.0 if cam_min_curvature_radius > cam_roller_radius else 0.0
+
+
+def rise_progress(cam_angle, cam_rise_angle):
+    """u = δ/Φ (a helper column: the laws' argument on the rise) [-]."""
+    return np.asarray(cam_angle, dtype=float) / cam_rise_angle
+
+
+def return_progress(cam_angle, cam_rise_angle, cam_far_dwell, cam_return_angle):
+    """u′ = (δ − Φ − Φs)/Φ′ (the laws' argument on the return) [-]."""
+    return (np.asarray(cam_angle, dtype=float) - cam_rise_angle - cam_far_dwell) \
+        / cam_return_angle
