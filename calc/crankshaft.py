@@ -201,14 +201,6 @@ def swept_volume(bore, stroke):
     return np.pi * bore ** 2 / 4 * stroke
 
 
-def clearance_volume(swept_volume, compression_ratio):
-    """V_c = V_h/(ε − 1) [m³]."""
-    return swept_volume / (compression_ratio - 1)
-
-
-def compression_ratio_of(swept_volume, clearance_volume):
-    """ε = (V_h + V_c)/V_c [-]."""
-    return (swept_volume + clearance_volume) / clearance_volume
 
 
 def mean_piston_speed(stroke, speed):
@@ -220,10 +212,6 @@ def peak(values):
     """Largest |value| of a series [same unit]."""
     return float(np.abs(np.asarray(values, dtype=float)).max())
 
-
-def times(a, b):
-    """a·b."""
-    return a * b
 
 
 def half(value):
