@@ -27,11 +27,6 @@ NEGLIGIBLE = 1e-6                 # × the first-order scale: an order counts as
 
 
 # ---------------------------------------------------------------- layout
-def cylinder_count(firing_angle):
-    """Number of cylinders (the length of the per-cylinder table)."""
-    return int(np.size(firing_angle))
-
-
 def throw_count(throw):
     """Number of throws: the largest throw number."""
     return int(np.max(np.asarray(throw, dtype=float)))

@@ -51,7 +51,7 @@ def load_preset(name):
         if key not in spec.parameter:
             raise SpecError(f"{PRESETS}/{name}.toml", key, "sets an unknown parameter")
         values[key] = value
-    values = {key: _coerce(spec.parameter[key], value, f"preset {name}") for key, value in
+    values = {key: coerce(spec.parameter[key], value, f"preset {name}") for key, value in
               values.items()}
     return spec, values, meta
 
@@ -78,7 +78,7 @@ def apply_group(spec, values, preset, number):
             if key not in spec.parameter:
                 raise SpecError(f"{GROUPS}/{table}.toml", key,
                                 f"group {number} sets an unknown parameter")
-            values[key] = _coerce(spec.parameter[key], value, f"group {number}")
+            values[key] = coerce(spec.parameter[key], value, f"group {number}")
     return values
 
 
@@ -99,7 +99,7 @@ def parse_number(key, text):
     return value
 
 
-def _coerce(parameter, value, where):
+def coerce(parameter, value, where=""):
     """A parameter value in its canonical form: float, 1-based choice index, or a
     list of floats for a per-item parameter."""
     if parameter.axis:
@@ -135,7 +135,7 @@ def apply_overrides(spec, values, overrides):
             hint = f" (did you mean {', '.join(close)}?)" if close else ""
             raise UnknownParameterError(f"unknown parameter {key!r}{hint}; parameters are: "
                                         f"{', '.join(spec.parameter)}")
-        values[key] = _coerce(spec.parameter[key], value, "--set")
+        values[key] = coerce(spec.parameter[key], value, "--set")
     return values
 
 

@@ -233,10 +233,10 @@ def _flag(g, sub, by_id, spec):
     for parameter in spec.scalar_parameters():
         if parameter.key not in sub.parameters:
             continue
-        have = sub.parameters[parameter.key]
-        if parameter.kind == "choice" and isinstance(have, str) and have in parameter.choices:
-            have = parameter.choices.index(have) + 1      # a word stands for its index
-        have = answer_number(have)
+        try:                                  # a choice's word, or a number
+            have = params.coerce(parameter, sub.parameters[parameter.key])
+        except CrankbookError:
+            have = answer_number(sub.parameters[parameter.key])
         want = float(assigned[f"p_{parameter.key}"])
         if have is None or abs(have - want) > 1e-9 * max(1.0, abs(want)):
             changed.append(parameter.key)
