@@ -50,10 +50,9 @@ def dimension_beyond_bore(bore, main_journal_diameter, main_journal_length, cran
     return _flag(largest > 3 * bore)
 
 
-def bore_not_inside(main_journal_bore, main_journal_diameter, crankpin_bore, crankpin_diameter):
-    """1 where a hollow journal's bore is not smaller than its diameter."""
-    return _flag((main_journal_bore >= main_journal_diameter) |
-                 (crankpin_bore >= crankpin_diameter))
+def bore_not_inside(bore, diameter):
+    """1 where a hollow journal's or pin's bore is not smaller than its diameter."""
+    return _flag(bore >= diameter)
 
 
 def throw_missing(check_throw, throw):

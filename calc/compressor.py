@@ -118,6 +118,31 @@ def column_mass(piston_mass, rod_mass, rod_small_end_share):
     return np.asarray(piston_mass) + np.asarray(rod_small_end_share) * np.asarray(rod_mass)
 
 
+def column_rotating_mass(rod_mass, rod_small_end_share):
+    """The rod's big-end share that rotates with the pin, m2 = (1 − share)·m_d [kg]."""
+    return (1 - np.asarray(rod_small_end_share, dtype=float)) * np.asarray(rod_mass, dtype=float)
+
+
+def crankpin_load_tangential(column_tangential_force):
+    """Tangential load on each column's crank pin: the rod's tangential force [N]."""
+    return np.asarray(column_tangential_force, dtype=float)
+
+
+def crankpin_load_radial(column_radial_force, column_rotating_mass, crank_radius,
+                         angular_velocity):
+    """Radial load on each column's crank pin, toward the crank centre: the rod's
+    radial force less its big end's centrifugal force m2·r·ω² [N]."""
+    return np.asarray(column_radial_force, dtype=float) \
+        - np.asarray(column_rotating_mass, dtype=float) * crank_radius * angular_velocity ** 2
+
+
+def journal_torque(column_torque):
+    """Torque in the main journal ahead of each column: the torques of the columns
+    before it along the shaft (column 1 at the free end) [N·m]."""
+    torque = np.asarray(column_torque, dtype=float)
+    return np.cumsum(torque, axis=1) - torque
+
+
 def column_inertia_force(column_reciprocating_mass, column_acceleration):
     """−m_p·a [N]."""
     return -np.asarray(column_reciprocating_mass) * np.asarray(column_acceleration)

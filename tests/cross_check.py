@@ -82,7 +82,9 @@ WORKBOOKS = {
     "compressor_edited": {"edit_of": "compressor",
                           "edits": {"speed": 1200.0, "ambient_pressure": 0.1,
                                     "stage_discharge_pressure": [0.5, 3.0, 18.0],
-                                    "column_phase": [0.0, 90.0], "friction_coefficient": 0.6}},
+                                    "column_phase": [0.0, 90.0], "friction_coefficient": 0.6,
+                                    "check_throw": 1.0, "crankpin_bore": 20.0,
+                                    "strength_theory": 4.0}},
     # the crankshaft (issue 12) -------------------------------------------------
     "thesis_edit_crankshaft": {"edit_of": "thesis",
                                "edits": {"strength_theory": 4.0, "crankpin_bore": 16.0,

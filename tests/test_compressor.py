@@ -1,7 +1,8 @@
 """The compressor workbook (seed 002) against independent computations: pressure
 continuity at every phase boundary and the boundaries' closed forms, the p–V loops'
 work against the shaft torque, torque = F·v/ω, the volumetric efficiency against the
-delivery, and the seed's stage-1 numbers."""
+delivery, the seed's stage-1 numbers, and the crank-pin load and fatigue check
+rebuilt from the rod force and the beam formulas by hand."""
 import numpy as np
 import pytest
 
@@ -78,12 +79,49 @@ def test_delivery_and_the_seeds_numbers(seed):
     assert s["mean_torque"] < 0 and s["shaft_power"] > 0
 
 
+def test_crankpin_load_is_the_rod_force_less_the_big_ends_centrifugal_force(seed):
+    """Without the big end's mass the pin carries the rod force, whatever its
+    components; with it, the radial part loses m2·r·ω² (m2 = 0.65·0.18 kg here)."""
+    g, s = seed.series(), seed.scalars
+    omega, r = s["angular_velocity"], seed.parameters["crank_radius"] / 1000
+    for c in (1, 2):
+        rod = g[f"column_rod_force[{c}]"].to_numpy()
+        centrifugal = 0.65 * 0.18 * r * omega ** 2
+        t, k = g[f"crankpin_load_tangential[{c}]"], g[f"crankpin_load_radial[{c}]"]
+        assert np.allclose(np.hypot(t, k + centrifugal), np.abs(rod), rtol=1e-9, atol=1e-9)
+        assert np.allclose(np.hypot(t, k), g[f"crankpin_load[{c}]"], rtol=1e-12)
+
+
+def test_fatigue_factor_follows_from_the_checked_pins_load_by_hand():
+    """Seed 002 eq. 3.3 applied by hand to column 2's pin: the simply supported throw
+    (a = L1/2 + h + L2/2) bends under the pin load, the journal ahead of it carries
+    column 1's torque."""
+    result = crankbook.compute("compressor", check_throw=2, step=1)
+    g, s = result.series(), result.scalars
+    d, a = 0.070, 0.037 / 2 + 0.028 + 0.042 / 2                 # seed 002 §5.1 dimensions
+    w = np.pi * d ** 3 / 32
+    sigma = g["crankpin_load[2]"].to_numpy() * a / 2 / w / 1e6          # MPa
+    torque = g["column_torque[1]"].to_numpy() + g["column_tangential_force[2]"].to_numpy() \
+        * 0.018 / 2
+    tau = torque / (2 * w) / 1e6
+    amplitude, mean = np.ptp(sigma) / 2, (sigma.max() + sigma.min()) / 2
+    n_sigma = 495 / (1.55 * amplitude / (1.5 * 0.75) + 0.33 * mean)
+    tau_a, tau_m = np.ptp(tau) / 2, (tau.max() + tau.min()) / 2
+    n_tau = 285 / (1.35 * tau_a / (1.5 * 0.75) + 0.15 * tau_m)
+    assert s["fatigue_safety_factor_bending"] == pytest.approx(n_sigma, rel=1e-9)
+    assert s["fatigue_safety_factor"] == pytest.approx(
+        n_sigma * n_tau / np.hypot(n_sigma, n_tau), rel=1e-9)
+    assert s["static_safety_factor"] == pytest.approx(
+        800 / np.sqrt(sigma ** 2 + 4 * tau ** 2).max(), rel=1e-9)
+
+
 def test_one_stage_on_one_column():
     result = crankbook.compute("compressor", stage_bore=[60.0], stage_suction_pressure=[0.1],
                                stage_discharge_pressure=[0.8], stage_expansion_exponent=[1.3],
                                stage_compression_exponent=[1.35], stage_clearance_length=[1.0],
                                stage_column=[1], column_phase=[0.0], piston_mass=[0.4],
-                               rod_mass=[0.2], rod_small_end_share=[0.35], step=2)
+                               rod_mass=[0.2], rod_small_end_share=[0.35], check_throw=1,
+                               step=2)
     assert result.scalars["shaft_power"] > 0
 
 
@@ -92,6 +130,8 @@ def test_one_stage_on_one_column():
     ({"stage_expansion_exponent": [1.0, 1.4, 1.4]}, "stage_expansion_exponent"),
     ({"stage_clearance_length": [0.0, 1.26, 1.26]}, "stage_clearance_length"),
     ({"stage_column": [1, 2, 3]}, "column that does not exist"),
+    ({"check_throw": 3}, "column checked for strength does not exist"),
+    ({"crankpin_bore": 70.0}, "bore must be smaller"),
 ])
 def test_bad_compressor_inputs(sets, words):
     with pytest.raises(CrankbookError, match=words):

@@ -41,6 +41,7 @@ def _with_libraries(data, file):
     """``data`` with the libraries of include = [...] merged in, each list entry
     remembering the file it comes from."""
     data = dict(data)
+    own_defaults = data.pop("defaults", {})
     _stamp(data, file)
     seen = set()
     queue = list(data.pop("include", []))
@@ -57,6 +58,17 @@ def _with_libraries(data, file):
                 data[key] = data.get(key, []) + value
             elif isinstance(value, dict):
                 data[key] = {**data.get(key, {}), **value}
+    return _with_defaults(data, own_defaults, file)
+
+
+def _with_defaults(data, defaults, file):
+    """The template's own [defaults] for parameters a library defines (a library's
+    default suits the workbook it was first written for, not every one)."""
+    known = {p["key"]: p for p in data.get("parameter", [])}
+    for key, value in defaults.items():
+        if key not in known:
+            raise SpecError(file, key, "[defaults] names a parameter no library defines")
+        known[key]["default"] = value
     return data
 
 
