@@ -257,3 +257,14 @@ def test_the_language_is_documented_in_one_place():
                       "[[sheet.charts]]", "equal_axes", "step_option", "guard", "array",
                       "discrete", "kind = \"choice\"", "[[constant]]", "[[input_table]]"):
         assert construct in text, construct
+
+
+def test_a_templates_defaults_override_its_librarys():
+    """[defaults] gives the template's own default to a library's parameter; a key
+    nothing defines is an authoring mistake."""
+    data = _minimal(include=["pin_strength"], defaults={"crankpin_diameter": 70.0})
+    spec = from_data(data)
+    assert spec.parameter["crankpin_diameter"].default == 70.0
+    assert load("engine").parameter["crankpin_diameter"].default == 48.0
+    with pytest.raises(SpecError, match="no library defines"):
+        from_data(_minimal(defaults={"no_such_input": 1.0}), file="mine.toml")
