@@ -15,16 +15,15 @@ itself saves a filled-down column.  Excel, LibreOffice, Gnumeric and WPS expand 
 every cell keeps its own cached value.  It shrinks the sheet XML several-fold, and
 with it the writing and the compression of every build.
 """
-import math
-from collections import namedtuple
-
+import numpy as np
 from xlsxwriter.worksheet import Worksheet
 
 from crankbook.formulas import INDEX, PREV, ROW
 from xlsxwriter.utility import xl_col_to_name
 
-PreparedFormula = namedtuple("PreparedFormula", "ref formula format value")
-SharedFormula = namedtuple("SharedFormula", "ref head format value")   # head: XML of <f>
+class CellXml(str):
+    """A cell's finished <c> element (its format's index fixed when written)."""
+    __slots__ = ()
 
 
 def _pattern(template):
@@ -52,27 +51,29 @@ class FastWorksheet(Worksheet):
         body = _pattern(template).format
         head = _pattern(first).format if first is not None else body
         letter = xl_col_to_name(col)
+        style = f' s="{fmt._get_xf_index()}"' if fmt else ""
         table = self.table
         # the run of rows written as one shared formula: all rows but a distinct first
         shared_from = 0 if first is None or first == template else 1
         shareable = INDEX not in template and len(values) - shared_from >= 2
-        for i, value in enumerate(values):
+        numbers = np.asarray(values, dtype=float)
+        cached = [repr(v) if ok else "" for v, ok in
+                  zip(numbers.tolist(), np.isfinite(numbers).tolist())]
+        dependent = None
+        for i, value in enumerate(cached):
             row = first_row + i
-            value = float(value)
-            value = value if math.isfinite(value) else ""
             ref = f"{letter}{row + 1}"
-            if shareable and i >= shared_from:
-                if i == shared_from:
-                    index = self._next_shared_index()
-                    last = first_row + len(values)
-                    text = f'<f t="shared" ref="{ref}:{letter}{last}" si="{index}">' \
-                        f'{body(row + 1, row, i)}</f>'
-                else:
-                    text = f'<f t="shared" si="{index}"/>'
-                table[row][col] = SharedFormula(ref, text, fmt, value)
-                continue
-            table[row][col] = PreparedFormula(ref, (head if i == 0 else body)(row + 1, row, i),
-                                              fmt, value)
+            if dependent is not None:
+                formula = dependent
+            elif shareable and i == shared_from:
+                index = self._next_shared_index()
+                last = first_row + len(values)
+                formula = f'<f t="shared" ref="{ref}:{letter}{last}" si="{index}">' \
+                    f'{body(row + 1, row, i)}</f>'
+                dependent = f'<f t="shared" si="{index}"/>'
+            else:
+                formula = f"<f>{(head if i == 0 else body)(row + 1, row, i)}</f>"
+            table[row][col] = CellXml(f'<c r="{ref}"{style}>{formula}<v>{value}</v></c>')
         self._check_dimensions(first_row, col)
         self._check_dimensions(first_row + len(values) - 1, col)
 
@@ -82,13 +83,7 @@ class FastWorksheet(Worksheet):
         return index
 
     def _write_cell(self, row, col, cell):
-        if cell.__class__ is SharedFormula:
-            style = f' s="{cell.format._get_xf_index()}"' if cell.format else ""
-            self.fh.write(f'<c r="{cell.ref}"{style}>{cell.head}<v>{cell.value}</v></c>')
-            return
-        if cell.__class__ is PreparedFormula:
-            style = f' s="{cell.format._get_xf_index()}"' if cell.format else ""
-            self.fh.write(f'<c r="{cell.ref}"{style}><f>{cell.formula}</f>'
-                          f'<v>{cell.value}</v></c>')
+        if cell.__class__ is CellXml:
+            self.fh.write(cell)
             return
         super()._write_cell(row, col, cell)
