@@ -7,7 +7,8 @@ are named p_<key>, every computed quantity q_<key>.
 import importlib
 import inspect
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cached_property, lru_cache
+from types import MappingProxyType
 
 from crankbook import placeholders
 
@@ -17,6 +18,7 @@ from crankbook.calc.cycle import EXTREME_TOLERANCE  # noqa: E402
 GUARD = "inputs_valid"            # every guarded formula is IF(q_inputs_valid=1, …, "")
 
 
+@lru_cache(maxsize=None)
 def calc_function(path):
     """The function a path such as 'calc.kinematics.stroke' names (under crankbook)."""
     module, _, name = path.rpartition(".")
@@ -161,9 +163,15 @@ class Quantity:
         return calc_function(self.calc)
 
     def calc_arguments(self):
-        """The calc function's argument names mapped to the keys that feed them."""
+        """The calc function's argument names mapped to the keys that feed them
+        (read from its signature once: evaluation asks for every quantity, every
+        time)."""
+        return self._calc_arguments
+
+    @cached_property
+    def _calc_arguments(self):
         names = inspect.signature(self.calc_function()).parameters
-        return {name: self.args.get(name, name) for name in names}
+        return MappingProxyType({name: self.args.get(name, name) for name in names})
 
     @cached_property
     def nodes(self):

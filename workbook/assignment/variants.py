@@ -42,9 +42,13 @@ def _draw(assignment, base, rng):
 
 def acceptable(assignment, spec, values):
     """True when the parameters make a mechanism the assignment can use."""
+    # only what the checks below read, and what that needs
+    wanted = [q.key for q in spec.quantities() if q.must_pass] + \
+        [k for k in ("min_transmission_angle", "raw_crank_angle") if k in spec.quantity]
     try:
         values = params.validate(spec, dict(values))
-        out = evaluate.evaluate(spec, values, {}, evaluate.crank_angle_grid(spec, 30.0))
+        out = evaluate.evaluate(spec, values, {}, evaluate.crank_angle_grid(spec, 30.0),
+                                keys=wanted)
     except CrankbookError:
         return False
     if any(np.any(np.asarray(out[q.key], dtype=float) == 0)

@@ -87,3 +87,50 @@ class FastWorksheet(Worksheet):
             self.fh.write(cell)
             return
         super()._write_cell(row, col, cell)
+
+    def _calculate_spans(self):
+        """xlsxwriter's <row spans="…"> per block of 16 rows, from the cells each row
+        holds instead of a scan over every column of every row (same result)."""
+        if self.comments:
+            return super()._calculate_spans()
+        spans = {}
+        for row_num, cells in self.table.items():
+            if not cells or not self.dim_rowmin <= row_num <= self.dim_rowmax:
+                continue
+            block = row_num // 16
+            low, high = min(cells), max(cells)
+            if block in spans:
+                low, high = min(low, spans[block][0]), max(high, spans[block][1])
+            spans[block] = (low, high)
+        self.row_spans = {block: f"{low + 1}:{high + 1}" for block, (low, high) in spans.items()}
+
+    def _write_rows(self):
+        """xlsxwriter's row loop over the rows that hold something, each row's cells in
+        column order (the same XML, without a scan of every column of every row)."""
+        if self.comments:
+            return super()._write_rows()
+        self._calculate_spans()
+        filled = {row for row, cells in self.table.items() if cells}
+        for row_num in sorted(filled | set(self.row_info)):
+            if not self.dim_rowmin <= row_num <= self.dim_rowmax:
+                continue
+            span = self.row_spans.get(row_num // 16)
+            info = self.row_info.get(row_num)
+            if row_num in filled:
+                if info is None:
+                    self._write_row(row_num, span)
+                else:
+                    self._write_row(row_num, span, info)
+                cells = self.table[row_num]
+                for col_num in sorted(cells):
+                    self._write_cell(row_num, col_num, cells[col_num])
+                self._xml_end_tag("row")
+            else:
+                self._write_empty_row(row_num, span, info)
+
+    def _get_range_data(self, row_start, col_start, row_end, col_end):
+        """No cached chart data: the formula cells are finished XML xlsxwriter cannot
+        read back, so a cache would hold the x values without the y values; every
+        engine draws the charts from the cells (Excel recalculates on load,
+        fullCalcOnLoad)."""
+        return []
