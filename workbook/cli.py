@@ -69,6 +69,9 @@ def _build_parser():
     audit.add_argument("-o", "--output", metavar="PATH.xlsx",
                        help="audit workbook (default: output/audit-<document>.xlsx)")
     audit.add_argument("--json", metavar="PATH.json", help="also write the findings as JSON")
+    audit.add_argument("--sources", metavar="DIR",
+                       help="folder of the seed text files: check that every reported number "
+                            "is printed at its line (exit 1 if one is not)")
 
     assign = commands.add_parser(
         "assign", help="write a workbook per student, the answer keys and a manifest",
@@ -184,13 +187,31 @@ def _audit(args):
         write_json(documents, args.json)
     for document in documents:
         findings = document.findings()
-        counts = {s: sum(f["status"] == s for f in findings)
-                  for s in ("ok", "mismatch", "inconsistent", "unverifiable")}
+        counts = {s: sum(f["status"] == s for f in findings) for s in claims.VERDICTS}
         print(f"{document.key:<16} {len(findings):>3} claims: " +
-              ", ".join(f"{n} {s}" for s, n in counts.items()))
+              ", ".join(f"{n} {s}" for s, n in counts.items() if n))
     print(f"wrote {output} and {output.with_suffix('.md')}"
           + (f" and {args.json}" if args.json else ""))
+    if args.sources:
+        return _check_sources(documents, Path(args.sources))
     return 0
+
+
+def _check_sources(documents, folder):
+    """Every reported number at its line of the seed files in ``folder``."""
+    from crankbook import claims
+
+    problems = []
+    for document in documents:
+        if not (folder / document.file).is_file():
+            raise BuildOptionError(f"--sources {folder}: {document.file} is not there")
+        problems += [(document.key, key, why)
+                     for key, why in claims.anchor_problems(document, folder)]
+    for document_key, key, why in problems:
+        print(f"{document_key}: {key}: {why}")
+    print("sources: " + (f"{len(problems)} reported number(s) not found at their line"
+                         if problems else "every reported number is printed at its line"))
+    return 1 if problems else 0
 
 
 def _audit_workbook(path):
