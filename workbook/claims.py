@@ -27,13 +27,12 @@ One verdict per outcome, the same for every claim (VERDICTS defines them):
 * ``unverifiable``    — kind ``unverifiable``: ``missing`` says what is not stated
 """
 import math
-from pathlib import Path
-from functools import lru_cache
+import re
 from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
-
-import re
 
 from crankbook.calc import (cam, compressor, crankshaft, cycle, forces, gears, kinematics,
                             mechanism, multicylinder, optimization)
@@ -56,6 +55,7 @@ VERDICTS = {
 REQUIRED_BY_KIND = {"consistency": ("other", "other_line"), "model": ("model",),
                     "unverifiable": ("missing",)}
 DEFAULT_TOLERANCE = 0.005          # relative: documents print 3–4 significant digits
+
 
 @lru_cache(maxsize=None)
 def _computed(preset, overrides):
@@ -149,6 +149,13 @@ class Document:
     omitted: list = field(default_factory=list)    # [{section, what, why}]: coverage
 
     def findings(self):
+        """One dict per claim (computed once: the workbook, the report and the JSON
+        all read them)."""
+        if getattr(self, "_findings", None) is None:
+            self._findings = self._compute_findings()
+        return self._findings
+
+    def _compute_findings(self):
         out = []
         for claim in self.claims:
             recomputed = claim.recompute()
