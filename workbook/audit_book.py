@@ -68,8 +68,11 @@ def decimals_of(claim):
     """Decimal places the document prints the number with (for the recomputation's
     display): from ``printed`` or the reported value; 4 where it prints no number."""
     text = claim.printed or (repr(claim.reported) if claim.reported is not None else None)
-    if text is None or "/" in text:
-        return 4
+    if text is None or "/" in text:                # five significant digits
+        value = claim.reported if claim.reported is not None else claim.derived_value()
+        if not value:
+            return 4
+        return int(min(max(4 - math.floor(math.log10(abs(value))), 0), 8))
     if "e" in text.lower():
         return 6
     whole, _, fraction = text.partition(".")
