@@ -271,3 +271,27 @@ def test_the_anchor_check_can_fail():
     assert claims.anchor_problem(
         claims.Claim(key="k", section="s", line=1, claim="c", unit="N", reported=26391.0),
         ["Ptmax=26 391N"]) is None                      # thousands separators
+
+
+@pytest.mark.parametrize("content,words", [(None, "is not there"),
+                                           (b"\xff\xfe\xff", "cannot be read as UTF-8")])
+def test_bad_sources_folder_is_one_line_and_writes_nothing(tmp_path, content, words):
+    sources = tmp_path / "seeds"
+    sources.mkdir()
+    if content is not None:
+        (sources / claims.load("thesis").file).write_bytes(content)
+    out = tmp_path / "audit.xlsx"
+    done = run_cli("audit", "thesis", "-o", out, "--sources", sources)
+    _assert_clean_refusal(done, words, out)
+    assert not out.with_suffix(".md").exists()
+
+
+def test_sources_with_a_misplaced_number_exit_1(tmp_path):
+    sources = tmp_path / "seeds"
+    sources.mkdir()
+    lines = (_seeds() / claims.load("thesis").file).read_text(encoding="utf-8").splitlines()
+    lines[368] = "r = 100/2 = 49 mm"                      # crank_radius's line, altered
+    (sources / claims.load("thesis").file).write_text("\n".join(lines), encoding="utf-8")
+    done = run_cli("audit", "thesis", "-o", tmp_path / "a.xlsx", "--sources", sources)
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "thesis: crank_radius: 50 does not occur at line 369" in done.stdout

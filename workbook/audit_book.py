@@ -66,18 +66,16 @@ def coverage_of(document):
 
 def decimals_of(claim):
     """Decimal places the document prints the number with (for the recomputation's
-    display): from ``printed`` or the reported value; 4 where it prints no number."""
-    text = claim.printed or (repr(claim.reported) if claim.reported is not None else None)
-    if text is None or "/" in text:                # five significant digits
-        value = claim.reported if claim.reported is not None else claim.derived_value()
-        if not value:
-            return 4
-        return int(min(max(4 - math.floor(math.log10(abs(value))), 0), 8))
-    if "e" in text.lower():
-        return 6
-    whole, _, fraction = text.partition(".")
-    fraction = fraction.rstrip("0") if claim.printed is None else fraction
-    return min(len(fraction), 6)
+    display): from ``printed`` or the reported value; five significant digits where
+    it prints a fraction or no number."""
+    if claim.printed and "/" not in claim.printed:
+        return min(len(claim.printed.partition(".")[2]), 6)
+    if claim.reported is not None and not claim.printed:
+        return decimals_of_value(claim.reported)
+    value = claim.reported if claim.reported is not None else claim.derived_value()
+    if not value:
+        return 4
+    return int(min(max(4 - math.floor(math.log10(abs(value))), 0), 8))
 
 
 def _basis(claim):
@@ -308,8 +306,8 @@ def _write_claim_row(ws, row, claim, finding, formats):
     cells = {}
     for i, (input_name, value) in enumerate(claim.inputs.items()):
         ws.write(row, INPUTS_AT + 2 * i, input_name, formats.key)
-        ws.write_number(row, INPUTS_AT + 2 * i + 1, float(value), formats.number(
-            min(max(decimals_of_value(value), 0), 6), role="input"))
+        ws.write_number(row, INPUTS_AT + 2 * i + 1, float(value),
+                        formats.number(decimals_of_value(value), role="input"))
         cells[input_name] = f"${xl_col_to_name(INPUTS_AT + 2 * i + 1)}${excel_row}"
     ws.write(row, COL["key"], claim.key, formats.key)
     ws.write(row, COL["section"], claim.section, formats.wrap)
@@ -355,7 +353,8 @@ def _write_claim_row(ws, row, claim, finding, formats):
 
 
 def decimals_of_value(value):
+    """Decimal places of a number as Python writes it shortest (at most 6)."""
     text = repr(float(value))
     if "e" in text:
         return 6
-    return len(text.partition(".")[2].rstrip("0"))
+    return min(len(text.partition(".")[2].rstrip("0")), 6)

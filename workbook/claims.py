@@ -25,6 +25,11 @@ One verdict per outcome, the same for every claim (VERDICTS defines them):
                         document quotes; the recomputation is the nearest value
                         inside the rule and the margin is given in %
 * ``unverifiable``    — kind ``unverifiable``: ``missing`` says what is not stated
+
+A ``[[table]]`` of a claims file is a printed table: one claim per entry, its rows
+setting one input (e.g. the crank angle), each ``[[table.column]]`` giving the
+printed values and that column's recomputation.  ``[[omitted]]`` lists what a
+document prints that is not a claim, and why (the coverage).
 """
 import math
 import re

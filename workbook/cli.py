@@ -181,6 +181,8 @@ def _audit(args):
     output = Path(args.output or f"output/audit-{target}.xlsx")
     if output.suffix.lower() != ".xlsx":
         raise BuildOptionError(f"-o {output}: the audit workbook must end in .xlsx")
+    # bad --sources is refused before anything is written
+    problems = _source_problems(documents, Path(args.sources)) if args.sources else None
     write_audit_workbook(documents, output)
     write_markdown(documents, output.with_suffix(".md"))
     if args.json:
@@ -192,26 +194,31 @@ def _audit(args):
               ", ".join(f"{n} {s}" for s, n in counts.items() if n))
     print(f"wrote {output} and {output.with_suffix('.md')}"
           + (f" and {args.json}" if args.json else ""))
-    if args.sources:
-        return _check_sources(documents, Path(args.sources))
-    return 0
+    if problems is None:
+        return 0
+    for document_key, key, why in problems:
+        print(f"{document_key}: {key}: {why}")
+    print("sources: " + (f"{len(problems)} reported number(s) not found at their line"
+                         if problems else "every reported number is printed at its line"))
+    return 1 if problems else 0
 
 
-def _check_sources(documents, folder):
-    """Every reported number at its line of the seed files in ``folder``."""
+def _source_problems(documents, folder):
+    """(document, claim, why) for every reported number not at its line of the seed
+    files in ``folder``."""
     from crankbook import claims
 
     problems = []
     for document in documents:
         if not (folder / document.file).is_file():
             raise BuildOptionError(f"--sources {folder}: {document.file} is not there")
-        problems += [(document.key, key, why)
-                     for key, why in claims.anchor_problems(document, folder)]
-    for document_key, key, why in problems:
-        print(f"{document_key}: {key}: {why}")
-    print("sources: " + (f"{len(problems)} reported number(s) not found at their line"
-                         if problems else "every reported number is printed at its line"))
-    return 1 if problems else 0
+        try:
+            found = claims.anchor_problems(document, folder)
+        except (OSError, UnicodeDecodeError) as error:
+            raise BuildOptionError(f"--sources {folder}: {document.file} cannot be read as "
+                                   f"UTF-8 text ({type(error).__name__})") from None
+        problems += [(document.key, key, why) for key, why in found]
+    return problems
 
 
 def _audit_workbook(path):

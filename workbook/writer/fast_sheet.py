@@ -16,10 +16,11 @@ every cell keeps its own cached value.  It shrinks the sheet XML several-fold, a
 with it the writing and the compression of every build.
 """
 import numpy as np
+from xlsxwriter.utility import xl_col_to_name
 from xlsxwriter.worksheet import Worksheet
 
 from crankbook.formulas import INDEX, PREV, ROW
-from xlsxwriter.utility import xl_col_to_name
+
 
 class CellXml(str):
     """A cell's finished <c> element (its format's index fixed when written)."""
@@ -35,6 +36,7 @@ def _pattern(template):
 
 
 class FastWorksheet(Worksheet):
+    _shared_formulas = 0          # shared-formula indices handed out on this sheet
     def _prepare_formula(self, formula, expand_future_functions=False):
         if formula.startswith("{"):
             formula = formula[1:]
@@ -78,9 +80,8 @@ class FastWorksheet(Worksheet):
         self._check_dimensions(first_row + len(values) - 1, col)
 
     def _next_shared_index(self):
-        index = getattr(self, "_shared_formulas", 0)
-        self._shared_formulas = index + 1
-        return index
+        self._shared_formulas += 1
+        return self._shared_formulas - 1
 
     def _write_cell(self, row, col, cell):
         if cell.__class__ is CellXml:
