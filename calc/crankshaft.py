@@ -247,8 +247,8 @@ def choose_mean(source, values, typed):
 
 
 def percent_change(new, old):
-    """(new/old − 1)·100 [%]."""
-    return (new / old - 1) * 100
+    """(new − old)/old·100 [%]."""
+    return (new - old) / old * 100
 
 
 def engine_volume(swept_volume, firing_angle):
@@ -261,9 +261,27 @@ def same(value):
     return value
 
 
-def compression_ratio_held_chamber(compression_ratio, swept_volume, alternative_volume):
-    """ε′ = (V_h′ + V_c)/V_c with V_c = V_h/(ε − 1) held [-]."""
-    return 1 + alternative_volume * (compression_ratio - 1) / swept_volume
+def chamber_volume(swept_volume, compression_ratio):
+    """Combustion-chamber volume V_c = V_h/(ε − 1) [m³]."""
+    return swept_volume / (compression_ratio - 1)
+
+
+def alternative_chamber_volume(hold, swept_volume, alternative_volume, compression_ratio):
+    """V_c′ with the alternative swept volume V_h′: V_h′/(ε − 1) where the compression
+    ratio is held (``hold`` 1: the piston's top land makes up the difference, thesis
+    §4.8.3), else the current V_c = V_h/(ε − 1) (``hold`` 2: the chamber held) [m³]."""
+    held = alternative_volume if hold == 1 else swept_volume
+    return held / (compression_ratio - 1)
+
+
+def compression_ratio_of(swept_volume, chamber_volume):
+    """ε = (V_h + V_c)/V_c = 1 + V_h/V_c [-]."""
+    return 1 + swept_volume / chamber_volume
+
+
+def mean_power(values, speed):
+    """M_mean·ω of a torque series over the cycle (closing point left out) [W]."""
+    return float(np.asarray(values, dtype=float)[:-1].mean()) * speed
 
 
 def alternative_torque(alt_piston_force, alt_crank_angle_from_axis, alt_rod_angle,

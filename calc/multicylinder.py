@@ -24,6 +24,8 @@ import numpy as np
 SHAKING_ORDERS = (1.0, 2.0, 4.0, 6.0)
 TORQUE_ORDERS = tuple(k / 2 for k in range(1, 25))          # 0.5, 1, …, 12
 NEGLIGIBLE = 1e-6                 # × the first-order scale: an order counts as balanced
+ORDER_NOISE = 1e-9                # × the series' peak |value|: a Fourier part below is 0
+NONUNIFORMITY_FLOOR = 1e-6        # × the peak |torque|: a mean torque below it is zero
 
 
 # ---------------------------------------------------------------- layout
@@ -162,7 +164,11 @@ def series_peak(values):
 
 # ---------------------------------------------------------------- uniformity, flywheel
 def nonuniformity(maximum, minimum, mean):
-    """Torque non-uniformity (T_max − T_min)/T_mean [-]."""
+    """Torque non-uniformity (T_max − T_min)/T_mean [-]; NaN (a blank cell) where the mean
+    torque is zero, i.e. |T_mean| ≤ NONUNIFORMITY_FLOOR·max(|T_max|, |T_min|): the ratio
+    of a torque that averages to zero describes nothing."""
+    if abs(mean) <= NONUNIFORMITY_FLOOR * max(abs(maximum), abs(minimum)):
+        return float("nan")
     return (maximum - minimum) / mean
 
 
@@ -212,6 +218,52 @@ def order_amplitude(values, crank_angle, order, period):
     a = 2 / count * (np.cos(phase) @ f)
     b = 2 / count * (np.sin(phase) @ f)
     return np.sqrt(a ** 2 + b ** 2)
+
+
+def _fourier_part(values, crank_angle, order, period, part):
+    """(2/N)·Σ f_n·part(k·α_n) over the N grid points with 0 ≤ α < ``period``, set to 0
+    where it is below the noise floor ORDER_NOISE·max|f| (one value per order)."""
+    alpha = np.asarray(crank_angle, dtype=float).ravel()
+    inside = alpha < period - 1e-9
+    f = np.asarray(values, dtype=float).ravel()
+    k = np.asarray(order, dtype=float).reshape(-1, 1)
+    raw = 2 / inside.sum() * (part(k * alpha[inside][None, :]) @ f[inside])
+    return np.where(np.abs(raw) <= ORDER_NOISE * np.max(np.abs(f)), 0.0, raw)
+
+
+def order_cosine(values, crank_angle, order, period):
+    """a_k = (2/N)·Σ f_n·cos(k·α_n) of each order k, so that f(α) ≈ f_mean + Σ a_k·cos(kα)
+    + b_k·sin(kα); 0 below the noise floor ORDER_NOISE·max|f| [unit of f].
+
+    Parameters
+    ----------
+    values : array_like, shape (N + 1,)
+        One series on the periodic grid (its last point closes the cycle).
+    crank_angle : array_like
+        The grid [rad].
+    order : array_like
+        The orders k [-] (per revolution: k = 0.5 is once per four-stroke cycle).
+    period : float
+        The cycle [rad]; the grid points with α < period are summed.
+    """
+    return _fourier_part(values, crank_angle, order, period, np.cos)
+
+
+def order_sine(values, crank_angle, order, period):
+    """b_k = (2/N)·Σ f_n·sin(k·α_n) of each order k; 0 below the noise floor (see
+    :func:`order_cosine`) [unit of f]."""
+    return _fourier_part(values, crank_angle, order, period, np.sin)
+
+
+def order_magnitude(cosine, sine):
+    """A_k = √(a_k² + b_k²) [unit of a_k]."""
+    return np.hypot(np.asarray(cosine, dtype=float), np.asarray(sine, dtype=float))
+
+
+def order_phase(cosine, sine):
+    """φ_k = atan2(b_k, a_k) in (−π, π], so that each term is A_k·cos(kα − φ_k); 0 for an
+    order whose parts are both 0 [rad]."""
+    return np.arctan2(np.asarray(sine, dtype=float) + 0.0, np.asarray(cosine, dtype=float))
 
 
 # ---------------------------------------------------------------- free forces

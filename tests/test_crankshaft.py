@@ -134,13 +134,53 @@ def test_stroke_study_of_the_same_stroke_changes_nothing(thesis):
 
 
 def test_stroke_study_of_the_thesis_96_to_100_mm():
-    # §4.8: the thesis lengthens the stroke from 96 to 100 mm with the chamber held
-    s = crankbook.compute("thesis", crank_radius=48.0, alternative_stroke=100.0).scalars
-    assert s["stroke_study_swept_volume_change"] == pytest.approx(100 / 96 * 100 - 100)
-    v_c = np.pi / 4 * 8.8 ** 2 * 9.6 / 9                     # cm³, ε = 10 at 96 mm
-    assert s["stroke_study_compression_ratio_alternative"] == pytest.approx(
-        (np.pi / 4 * 8.8 ** 2 * 10.0 + v_c) / v_c)
-    # centric: the largest inertia force is at TDC, m_j·r′ω²(1 + λ′)
-    lam = 50.0 / 150.0
+    """§4.8.3: the thesis's engine (100 mm) beside the 96 mm it came from, compression
+    ratio held by the piston's top land; every row against its closed form."""
+    r = crankbook.compute("thesis")
+    s, p = r.scalars, r.parameters
+    assert (p["alternative_stroke"], p["stroke_study_hold"], p["exact_kinematics"]) == \
+        (96.0, "compression_ratio", 0)
+    area = np.pi / 4 * 8.8 ** 2                                     # cm²
+    assert s["stroke_study_swept_volume"] == pytest.approx(area * 10.0, rel=1e-12)
+    assert s["stroke_study_swept_volume_alternative"] == pytest.approx(area * 9.6, rel=1e-12)
+    assert s["stroke_study_swept_volume_change"] == pytest.approx(-4.0, rel=1e-12)
+    assert s["stroke_study_compression_ratio_alternative"] == pytest.approx(10.0, rel=1e-12)
+    assert s["stroke_study_chamber_volume_alternative"] == pytest.approx(area * 9.6 / 9,
+                                                                         rel=1e-12)
+    assert s["stroke_study_mean_piston_speed_alternative"] == pytest.approx(0.096 * 5000 / 30)
+    assert s["stroke_study_stroke_bore_ratio_alternative"] == pytest.approx(96 / 88)
+    # series kinematics, centric: the largest inertia force is at TDC, m_j·r′ω²(1 + λ′)
+    omega = 5000 * np.pi / 30
     assert s["stroke_study_peak_inertia_force_alternative"] == pytest.approx(
-        s["reciprocating_mass"] * 0.05 * s["angular_velocity"] ** 2 * (1 + lam), rel=1e-12)
+        s["reciprocating_mass"] * 0.048 * omega ** 2 * (1 + 48 / 150), rel=1e-12)
+    assert s["stroke_study_peak_inertia_force"] == pytest.approx(
+        s["reciprocating_mass"] * 0.05 * omega ** 2 * (1 + 50 / 150), rel=1e-12)
+    # the same p(α) through the 96 mm crank: the mean torque is the work ∮p dV′ over 4π
+    # (virtual work: the torque's lever r·sin(ψ+β)/cosβ is dx/dα of the exact slider)
+    g = r.series()
+    alpha = np.radians(g.index.to_numpy())
+    x = 0.048 * (1 - np.cos(alpha)) + 0.150 * (1 - np.cos(np.arcsin(0.32 * np.sin(alpha))))
+    work = np.trapezoid(g["cylinder_pressure"].to_numpy() * 1e6, np.pi / 4 * 0.088 ** 2 * x)
+    assert s["stroke_study_indicated_power_alternative"] == pytest.approx(
+        work / (4 * np.pi) * omega / 1000, rel=2e-3)
+    for key in ("swept_volume", "compression_ratio", "mean_piston_speed", "stroke_bore_ratio",
+                "peak_inertia_force", "peak_side_force", "peak_torque", "indicated_power",
+                "chamber_volume"):
+        new, old = s[f"stroke_study_{key}_alternative"], s[f"stroke_study_{key}"]
+        assert s[f"stroke_study_{key}_change"] == pytest.approx((new - old) / old * 100,
+                                                                 abs=1e-12), key
+
+
+def test_stroke_study_can_hold_the_chamber_instead():
+    s = crankbook.compute("thesis", stroke_study_hold="chamber_volume").scalars
+    v_c = np.pi / 4 * 8.8 ** 2 * 10.0 / 9                       # cm³: ε = 10 at 100 mm
+    assert s["stroke_study_chamber_volume_alternative"] == pytest.approx(v_c, rel=1e-12)
+    assert s["stroke_study_compression_ratio_alternative"] == pytest.approx(
+        (np.pi / 4 * 8.8 ** 2 * 9.6 + v_c) / v_c, rel=1e-12)
+
+
+def test_stroke_study_follows_the_kinematics_choice():
+    g = crankbook.compute("thesis", exact_kinematics=1).series()
+    assert np.array_equal(g["alt_piston_acceleration"], g["alt_piston_acceleration_exact"])
+    g = crankbook.compute("thesis").series()
+    assert np.array_equal(g["alt_piston_acceleration"], g["alt_piston_acceleration_series"])

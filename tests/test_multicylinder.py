@@ -196,7 +196,8 @@ def test_the_default_pendulum_rates_describe_the_thesis_rod():
 
 @pytest.mark.parametrize("sets,error,words", [
     ({"firing_angle": [360, 180, 540]}, LayoutError, "firing_angle has 3"),
-    ({"offset": 3.0}, GeometryError, "multi-cylinder layout is centric"),
+    ({"offset": 3.0, "exact_kinematics": 1}, GeometryError,
+         "multi-cylinder layout is centric"),
     ({"throw": [1, 1, 3, 4]}, GeometryError, "cylinder 1: throw = 1"),
     ({"firing_angle": [360, 181, 541, 0], "step": 2}, GeometryError, "cylinder 2"),
 ])
@@ -210,3 +211,62 @@ def test_more_than_sixteen_cylinders_are_refused():
             "axial_position": [0.0] * 17, "throw": [1] * 17}
     with pytest.raises(LayoutError, match="at most 16"):
         crankbook.compute("thesis", **many)
+
+
+@pytest.mark.parametrize("preset", ["thesis", "inline-4", "v8-crossplane"])
+def test_torque_harmonics_are_the_fourier_series_of_the_torque(preset):
+    """a_k, b_k and φ_k against numpy's FFT of the torque over the cycle (order k per
+    revolution is harmonic 2k of the 720° cycle), and the series rebuilt from them."""
+    r = crankbook.compute(preset)
+    s, g = r.scalars, r.series()
+    for who, column in (("cylinder", "torque"), ("engine", "engine_torque")):
+        f = g[column].to_numpy()[:-1]
+        spectrum = np.fft.rfft(f) * 2 / f.size
+        peak = np.abs(f).max()
+        rebuilt = np.full(f.size, f.mean())
+        alpha = np.radians(g.index.to_numpy()[:-1])
+        for i, k in enumerate(mc.TORQUE_ORDERS, start=1):
+            a, b = spectrum[int(2 * k)].real, -spectrum[int(2 * k)].imag
+            assert s[f"{who}_torque_cosine[{i}]"] == pytest.approx(a, abs=1e-9 * peak)
+            assert s[f"{who}_torque_sine[{i}]"] == pytest.approx(b, abs=1e-9 * peak)
+            amplitude = s[f"{who}_torque_amplitude[{i}]"]
+            assert amplitude == pytest.approx(np.hypot(a, b), abs=1e-9 * peak)
+            phase = s[f"{who}_torque_phase[{i}]"]
+            assert -180 < phase <= 180
+            rebuilt += amplitude * np.cos(k * alpha - np.radians(phase))
+        # 24 orders of a 1° grid leave only the orders above 12 out
+        assert np.abs(rebuilt - f).max() < 0.05 * peak, who
+
+
+def test_balanced_orders_are_zero_not_rounding_noise():
+    s = crankbook.compute("inline-4").scalars
+    # an even-firing inline four's engine torque has only orders 2, 4, 6, …
+    for i, k in enumerate(mc.TORQUE_ORDERS, start=1):
+        if k % 2:
+            assert s[f"engine_torque_cosine[{i}]"] == 0.0 and s[f"engine_torque_sine[{i}]"] == 0.0
+            assert s[f"engine_torque_amplitude[{i}]"] == 0.0
+            assert s[f"engine_torque_phase[{i}]"] == 0.0
+
+
+def test_engine_totals_are_the_sum_of_the_cylinders():
+    four = crankbook.compute("inline-4")
+    s = four.scalars
+    assert s["engine_mean_torque"] == pytest.approx(4 * s["mean_torque"], rel=1e-12)
+    assert s["engine_indicated_power"] == pytest.approx(4 * s["indicated_power"], rel=1e-12)
+    assert s["engine_indicated_work"] == pytest.approx(
+        s["engine_indicated_power"] * 1000 / s["angular_velocity"] * 4 * np.pi, rel=1e-12)
+    one = crankbook.compute("thesis").scalars
+    assert one["engine_indicated_power"] == pytest.approx(one["indicated_power"], rel=1e-12)
+
+
+def test_a_zero_mean_torque_is_a_result_not_a_crash(tmp_path):
+    import pandas as pd
+    angle = np.arange(0.0, 721.0, 1.0)
+    flat = pd.DataFrame({"angle": angle, "p": np.full(angle.size, 0.1)})    # p = p0
+    r = crankbook.compute("thesis", pressure=flat)
+    assert abs(r.scalars["engine_mean_torque"]) < 1e-9 * r.scalars["engine_torque_max"]
+    assert r["torque_nonuniformity"] is None
+    assert np.isnan(r.scalars["torque_nonuniformity"])
+    path = r.to_excel(tmp_path / "flat.xlsx")
+    from tests.conftest import named
+    assert named(path)["q_torque_nonuniformity"] in (None, "")

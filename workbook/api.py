@@ -105,8 +105,13 @@ class Results:
         return pd.DataFrame(columns, index=index)
 
     def __getitem__(self, key):
+        """A q_ result or p_ value by key; a scalar result the workbook leaves blank
+        (NaN: e.g. the non-uniformity of a torque that averages to zero) is None."""
         if key in self.results:
-            return self.results[key]
+            value = self.results[key]
+            if np.ndim(value) == 0 and not np.isfinite(value):
+                return None
+            return value
         if key in self.values:
             return self.values[key]
         raise KeyError(key)

@@ -132,10 +132,14 @@ def _build(args):
     path = results.to_excel(output, lang=args.lang)
     elapsed = time.perf_counter() - started
     spec = results.spec
-    facts = ", ".join(f"{key} {results[key]:.4g} {spec.quantity[key].unit}"
+    facts = ", ".join(f"{key} {_shown(results[key])} {spec.quantity[key].unit}"
                       for key in spec.highlights)
     print(f"wrote {path} ({elapsed:.1f} s): {facts}")
     return 0
+
+
+def _shown(value):
+    return "(blank)" if value is None else f"{value:.4g}"
 
 
 def _verify(args):

@@ -42,6 +42,7 @@ def _with_libraries(data, file):
     remembering the file it comes from."""
     data = dict(data)
     own_defaults = data.pop("defaults", {})
+    own_labels = data.pop("labels", {})
     _stamp(data, file)
     seen = set()
     queue = list(data.pop("include", []))
@@ -58,7 +59,29 @@ def _with_libraries(data, file):
                 data[key] = data.get(key, []) + value
             elif isinstance(value, dict):
                 data[key] = {**data.get(key, {}), **value}
-    return _with_defaults(data, own_defaults, file)
+    return _with_labels(_with_defaults(data, own_defaults, file), own_labels, file)
+
+
+def _with_labels(data, labels, file):
+    """The template's own [labels] (zh, en) for quantities its libraries define: a
+    library's words suit the workbook it was first written for (the engine's mean
+    torque is one cylinder's, the compressor's the shaft's)."""
+    sections = ("result", "scalar", "columnset", "sheet")
+    entries = {}
+    for section in sections:
+        for entry in data.get(section, []):
+            for inner in entry.get("column", []) + entry.get("scalar", []) \
+                    if section in ("columnset", "sheet") else [entry]:
+                entries.setdefault(inner.get("key"), inner)
+    for key, words in labels.items():
+        if key not in entries:
+            raise SpecError(file, key, "[labels] names a quantity no library defines")
+        unknown = set(words) - {"zh", "en"}
+        if unknown:
+            raise SpecError(file, key, f"[labels] gives only zh and en, not "
+                                       f"{', '.join(sorted(unknown))}")
+        entries[key].update(words)
+    return data
 
 
 def _with_defaults(data, defaults, file):
