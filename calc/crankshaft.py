@@ -236,14 +236,15 @@ def value_near(series, crank_angle, angle, cycle):
     return float(at_angle(series, crank_angle, angle, cycle))
 
 
-def choose_amplitude(source, values, typed):
-    """σa: half the series' range, or the typed value where ``source`` is 1."""
-    return float(choose(source, amplitude(values), typed))
+def choose_amplitude(source, maximum, minimum, typed):
+    """σa: half the range between the series' largest and smallest value, or the typed
+    value where ``source`` is 1."""
+    return choose(source, (np.asarray(maximum) - minimum) / 2, typed)
 
 
-def choose_mean(source, values, typed):
+def choose_mean(source, maximum, minimum, typed):
     """σm: the middle of the series' range, or the typed value where ``source`` is 1."""
-    return float(choose(source, mean_of_range(values), typed))
+    return choose(source, (np.asarray(maximum) + minimum) / 2, typed)
 
 
 def percent_change(new, old):

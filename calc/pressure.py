@@ -132,6 +132,18 @@ def trace_pressure(crank_angle, trace_crank_angle, trace_pressure):
     angles = np.asarray(trace_crank_angle, dtype=float)
     pressures = np.asarray(trace_pressure, dtype=float)
     x = np.asarray(crank_angle, dtype=float)
+    if pressures.ndim == 2:
+        # one trace per column at the same angles (a trace per speed); rows the sheet
+        # leaves blank read as 0, as the workbook's INDEX of an empty cell does
+        missing = max(angles.size - pressures.shape[0], 0)
+        pressures = np.vstack([pressures[:angles.size], np.zeros((missing, pressures.shape[1]))])
+        return np.column_stack([_interpolated(x.ravel(), angles, pressures[:, c])
+                                for c in range(pressures.shape[1])])
+    return _interpolated(x, angles, pressures)
+
+
+def _interpolated(x, angles, pressures):
+    """The workbook's interpolation of one trace at the crank angles ``x``."""
     segment = trace_segment(x, angles)
     if np.isnan(segment).any():
         return segment

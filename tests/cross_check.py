@@ -21,15 +21,17 @@ PASTED_TRACE = np.arange(-5.0, 726.0, 5.0)
 WORKBOOKS = {
     # the thesis engine (issue 3) ------------------------------------------------
     "thesis": {"args": []},
-    "thesis_offset_en": {"args": ["--set", "offset=12", "--set", "rod_length=165", "--lang",
+    "thesis_offset_en": {"args": ["--set", "offset=12", "--set", "exact_kinematics=1",
+                                  "--set", "rod_length=165", "--lang",
                                   "en", "--step", "2"]},
-    "thesis_series": {"args": ["--set", "exact_kinematics=0", "--set", "speed=3200"]},
+    "thesis_exact": {"args": ["--set", "exact_kinematics=1", "--set", "speed=3200"]},
     "thesis_measured": {"args": ["--pressure", "{trace}", "--step", "0.5"]},
     "thesis_edit_offset": {"edit_of": "thesis",
-                           "edits": {"offset": -9.0, "rod_length": 172.0, "bore": 92.0}},
+                           "edits": {"offset": -9.0, "rod_length": 172.0, "bore": 92.0,
+                                     "exact_kinematics": 1.0}},
     "thesis_edit_speed": {"edit_of": "thesis",
                           "edits": {"speed": 2300.0, "crank_radius": 45.0, "piston_mass": 0.41}},
-    "thesis_edit_series": {"edit_of": "thesis", "edits": {"exact_kinematics": 0.0, "speed": 6100.0}},
+    "thesis_edit_exact": {"edit_of": "thesis", "edits": {"exact_kinematics": 1.0, "speed": 6100.0}},
     "thesis_edit_trace": {"edit_of": "thesis", "edits": {"pressure_source": 1.0},
                           "tables": {"trace_crank_angle": PASTED_TRACE,
                                      "trace_pressure": 0.12 + 3.0 * np.exp(
@@ -95,6 +97,10 @@ WORKBOOKS = {
                                       "--set", "counterweights=1", "--step", "2"]},
     "inline4_invalid_throw": {"edit_of": "inline4", "edits": {"throw": [1.0, 1.0, 3.0, 4.0]},
                               "valid": False},
+    # the speed range (issue 21): a measured trace per speed, on one and eight cylinders
+    "thesis_speed_traces": {"args": ["--pressure", "{bench}", "--step", "2"]},
+    "v8_speed_traces": {"args": ["--preset", "v8-crossplane", "--pressure", "{bench}",
+                                 "--step", "6", "--set", "check_throw=2"]},
 }
 
 
@@ -128,10 +134,21 @@ def course_trace(path):
                               for a in angles))
 
 
+def bench_traces(path, speeds=(2000.0, 3500.0, 5000.0)):
+    """A test bench's file: angle, then one pressure column per speed (r/min)."""
+    angles = np.arange(0.0, 720.0, 1.0)
+    rows = ["angle," + ",".join(f"{n:g}" for n in speeds)]
+    rows += [",".join([f"{a:g}"] + [repr(float(0.1 + (2 + n / 1500) * np.exp(
+        -((a - 370 - n / 1000) / 28) ** 2))) for n in speeds]) for a in angles]
+    path.write_text("\n".join(rows) + "\n")
+
+
 def build_all(tmp, workbooks=WORKBOOKS):
-    files = {"trace": tmp / "trace.csv", "course_trace": tmp / "course_trace.csv"}
+    files = {"trace": tmp / "trace.csv", "course_trace": tmp / "course_trace.csv",
+             "bench": tmp / "bench.csv"}
     synthetic_trace(files["trace"])
     course_trace(files["course_trace"])
+    bench_traces(files["bench"])
     paths = {}
     for name, entry in workbooks.items():
         path = tmp / f"{name}.xlsx"

@@ -128,17 +128,50 @@ class Results:
         return write_workbook(self, lang, path)
 
 
-def _trace_tables(spec, pressure):
-    from crankbook.pressure_file import read_trace, trace_from_columns
+def _traces(spec, pressure):
+    """The Traces of a file or DataFrame (two columns, or an angle column and one
+    pressure column per speed headed by the speed in r/min)."""
+    from crankbook.pressure_file import read_traces, traces_of_rows
     if isinstance(pressure, pd.DataFrame):
         if pressure.shape[1] < 2:
             raise BuildOptionError("pressure: a DataFrame needs two columns, crank angle [°] "
-                                   "and absolute pressure [MPa]")
-        angles, pressures = trace_from_columns("pressure DataFrame", pressure.iloc[:, 0],
-                                               pressure.iloc[:, 1], spec.cycle)
-    else:
-        angles, pressures = read_trace(pressure, spec.cycle)
-    return {"trace_crank_angle": angles, "trace_pressure": pressures}
+                                   "and absolute pressure [MPa], or an angle column and one "
+                                   "pressure column per speed named by the speed [r/min]")
+        rows = pressure.astype(object).values.tolist()
+        if pressure.shape[1] > 2:
+            rows = [[str(c) for c in pressure.columns]] + rows
+        return traces_of_rows("pressure DataFrame", rows, spec.cycle)
+    return read_traces(pressure, spec.cycle)
+
+
+def _trace_inputs(spec, traces, values, given, what):
+    """(tables, values) for a measured trace: one trace goes into the Pressure sheet's
+    trace block; a trace per speed also into the operating points (their speeds the
+    file's unless ``operating_speed`` is given; each listed speed and the design speed
+    need a column)."""
+    values = dict(values)
+    if "pressure_source" not in given and "pressure_source" in spec.parameter:
+        values["pressure_source"] = 1.0
+    if not traces.speeds:
+        return {"trace_crank_angle": traces.angles, "trace_pressure": traces.pressures}, values
+    if "operating_trace_pressure" not in spec.table_column:
+        raise BuildOptionError(f"{what}: holds a trace for each of {len(traces.speeds)} "
+                               f"speeds; the {spec.key} workbook takes one trace (two columns)")
+    listed = [float(v) for v in values["operating_speed"]] if "operating_speed" in given \
+        else list(traces.speeds)
+    shown = ", ".join(f"{v:g}" for v in traces.speeds)
+    for speed in listed:
+        if speed not in traces.speeds:
+            raise BuildOptionError(f"operating_speed {speed:g} r/min has no column in {what} "
+                                   f"(its speeds: {shown} r/min)")
+    if values["speed"] not in traces.speeds:
+        raise BuildOptionError(f"speed = {values['speed']:g} r/min (the design speed) has no "
+                               f"column in {what} (its speeds: {shown} r/min): set speed to "
+                               f"one of them")
+    values.update(operating_speed=listed, operating_trace_count=float(len(listed)))
+    tables = {"trace_crank_angle": traces.angles, "trace_pressure": traces.column(values["speed"]),
+              "operating_trace_pressure": np.column_stack([traces.column(v) for v in listed])}
+    return tables, values
 
 
 def compute(preset="thesis", *, group=None, pressure=None, step=None, **params):
@@ -152,7 +185,10 @@ def compute(preset="thesis", *, group=None, pressure=None, step=None, **params):
         A class group of the preset's group table, applied before ``params``.
     pressure : str, pathlib.Path or pandas.DataFrame, optional
         A measured cylinder-pressure trace: a .csv/.xlsx file or a two-column
-        DataFrame (crank angle [°], absolute pressure [MPa]); sets
+        DataFrame (crank angle [°], absolute pressure [MPa]); or one trace per speed
+        (an angle column, then one column per speed headed by the speed in r/min):
+        the design speed takes its column, and the operating points the speeds of the
+        file (or those of ``operating_speed``, each needing a column).  Sets
         ``pressure_source`` to 1 unless ``params`` sets it.
     step : float, optional
         Step of the main grid [°] (default: the template's, 1°).
@@ -175,9 +211,8 @@ def compute(preset="thesis", *, group=None, pressure=None, step=None, **params):
     values = parameters.apply_overrides(spec, values, params)
     tables = {}
     if pressure is not None:
-        tables = _trace_tables(spec, pressure)
-        if "pressure_source" not in params and "pressure_source" in spec.parameter:
-            values["pressure_source"] = 1.0
+        what = "the pressure DataFrame" if isinstance(pressure, pd.DataFrame) else str(pressure)
+        tables, values = _trace_inputs(spec, _traces(spec, pressure), values, params, what)
     values = parameters.validate(spec, values, tables=tables, grids=build_grids(spec, steps))
     return results_for(spec, meta, values, tables, steps)
 

@@ -67,9 +67,12 @@ def build_grids(spec, steps=None):
 
 
 def axis_sizes(spec, values):
-    """Axis key -> number of items, from the per-item parameters."""
+    """Axis key -> number of items, from the per-item parameters (a product axis: the
+    product of its two axes' sizes)."""
     sizes = {}
     for axis in spec.axes:
+        if axis.product:
+            continue
         if axis.size_calc:
             function = calc_function(axis.size_calc)
             args = {name: np.asarray(values[source], dtype=float)
@@ -82,6 +85,10 @@ def axis_sizes(spec, values):
             raise LayoutError(f"the {axis.en.lower()} table's columns are set together: "
                               f"{listing} values")
         sizes[axis.key] = next(iter(lengths.values()))
+    for axis in spec.axes:
+        if axis.product:
+            first, second = axis.product
+            sizes[axis.key] = sizes[first] * sizes[second]
     return sizes
 
 
@@ -139,7 +146,10 @@ class Evaluator:
         if q.is_grid:
             return np.asarray(result, dtype=float)
         if q.is_series or q.items:
-            result = np.broadcast_to(np.asarray(result, dtype=float), self.shape_of(q)).copy()
+            result, shape = np.asarray(result, dtype=float), self.shape_of(q)
+            if result.shape != shape and result.size == int(np.prod(shape)) and result.ndim:
+                result = result.reshape(shape)      # one case of a per-case series: (N, 1)
+            result = np.broadcast_to(result, shape).copy()
         else:
             result = float(np.asarray(result, dtype=float))
         if q.kind == "rule":
@@ -167,8 +177,10 @@ class Evaluator:
             result = (np.asarray(raw, dtype=float) if p.axis else float(raw)) \
                 * units.si_factor(p.unit)
         elif key in spec.table_column:
-            result = np.asarray(self.tables.get(key, []), dtype=float) \
-                * units.si_factor(spec.table_column[key].unit)
+            column = spec.table_column[key]
+            empty = np.zeros((0, self.sizes[column.items])) if column.items else []
+            result = np.asarray(self.tables.get(key, empty), dtype=float) \
+                * units.si_factor(column.unit)
         else:
             q = spec.quantity[key]
             result = self.call(q, self.arguments(q))

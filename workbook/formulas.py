@@ -48,13 +48,15 @@ def fill(template, row, index):
 class Place:
     """Where a key lives.  ``kind``: cell, column (a series on ``grid``), block (a
     per-item series: ``count`` columns from ``col``), items (``count`` cells down from
-    ``row``: per-item inputs and results) or range (an input table column)."""
+    ``row``: per-item inputs and results) or range (an input table column, ``count``
+    rows; ``width`` columns for one column per item)."""
     kind: str
     sheet: str
     row: int
     col: int
     grid: str | None = None
     count: int = 1
+    width: int = 1                # range: columns (a per-item input column, one per item)
 
 
 @dataclass(frozen=True)
@@ -105,7 +107,8 @@ class Locator:
             return f"{quote_sheet(place.sheet)}!{xl_rowcol_to_cell(place.row, place.col, True, True)}"
         if place.kind in ("items", "range"):
             first = xl_rowcol_to_cell(place.row, place.col, True, True)
-            last = xl_rowcol_to_cell(place.row + place.count - 1, place.col, True, True)
+            last = xl_rowcol_to_cell(place.row + place.count - 1, place.col + place.width - 1,
+                                     True, True)
             return f"{quote_sheet(place.sheet)}!{first}:{last}"
         top, bottom = self.grid_rows[place.grid]
         first = xl_rowcol_to_cell(top, place.col, True, True)
@@ -155,8 +158,32 @@ class Locator:
         if node.name == "row_index":
             return INDEX
         if node.name == "item":
-            return str(context.item)
+            return str(self._component(node.axis, context) if node.axis else context.item)
         return str(context.sums[-1][1])
+
+    def _component(self, axis, context):
+        """The item of ``axis`` that the context fixes (1-based), or None: an enclosing
+        {sum:axis(…)}, the formula's own item, its part of a product item, or the item
+        of an aligned axis (item k of the axis it is aligned to, or 1 if it has one)."""
+        for sum_axis, index in reversed(context.sums):
+            if sum_axis == axis:
+                return index
+        if context.axis is None or context.item is None:
+            return None
+        if context.axis == axis:
+            return context.item
+        product = self.spec.axis[context.axis].product
+        if axis in product:
+            first, second = product
+            size = self.axis_sizes[first]
+            return (context.item - 1) % size + 1 if axis == first \
+                else (context.item - 1) // size + 1
+        aligned = self.spec.axis[axis].aligned
+        if aligned is not None:
+            item = self._component(aligned, context)
+            if item is not None:
+                return item if self.axis_sizes[axis] > 1 else 1
+        return None
 
     def _reference(self, node, context):
         spec, key = self.spec, node.key
@@ -169,7 +196,7 @@ class Locator:
                 return f"MATCH(p_{key},{{{words}}},0)"
             return f"p_{key}"
         if key in spec.table_column:
-            return f"p_{key}"
+            return self._table_column(node, spec.table_column[key], context)
         place = self.places[key]
         axis = parameter.axis if parameter is not None else spec.quantity[key].items
         if place.kind == "items":
@@ -180,19 +207,35 @@ class Locator:
             return self._block(node, place, axis, context)
         return self._column(node, place, context, col=place.col)
 
+    def _table_column(self, node, column, context):
+        """An input-table column: its name, or with one column per item, the column of
+        the item the context fixes."""
+        item = self._component(column.items, context) \
+            if column.items and node.part not in ("all", "items") else None
+        if item is None:
+            return f"p_{column.key}"
+        place = self.places[column.key]
+        letter = xl_col_to_name(place.col + item - 1)
+        return (f"{quote_sheet(place.sheet)}!${letter}${place.row + 1}:"
+                f"${letter}${place.row + place.count}")
+
+    def _item_argument(self, node, context):
+        text = self.compile(node.argument, context).strip()
+        folded = integer(text) if INTEGER_EXPRESSION.match(text) else None
+        return folded if folded is not None else text
+
     def _chosen_item(self, node, axis, context):
         """The item a reference means: item(EXPR) literal, an enclosing sum, or the
-        formula's own item; None when it means all items."""
+        formula's own item (or its part, or an aligned item); None when it means all
+        items."""
         if node.part == "item":
-            text = self.compile(node.argument, context).strip()
-            folded = integer(text) if INTEGER_EXPRESSION.match(text) else None
-            return folded if folded is not None else text
-        for sum_axis, index in reversed(context.sums):
-            if sum_axis == axis:
-                return index
-        if context.axis == axis and node.part not in ("all", "items"):
-            return context.item
-        return None
+            return self._item_argument(node, context)
+        if node.part in ("all", "items"):
+            for sum_axis, index in reversed(context.sums):
+                if sum_axis == axis:
+                    return index
+            return None
+        return self._component(axis, context)
 
     def _item_cells(self, node, place, axis, context):
         item = self._chosen_item(node, axis, context)
@@ -202,7 +245,45 @@ class Locator:
             return f"INDEX({self.name(node.key)},{item})"
         return self._cell(place.sheet, place.row + item - 1, place.col, context)
 
+    def _product_block(self, node, place, axis, context):
+        """A per-item series of a product axis (a × b): one column when the context (and
+        item(EXPR), for the part it leaves open) fixes both parts, else the columns of
+        one item of b (b counts slowest, so they are adjacent)."""
+        first, second = self.spec.axis[axis].product
+        size = self.axis_sizes[first]
+        fixed = {c: None if node.part == "all" else self._component(c, context)
+                 for c in (first, second)}
+        if node.part == "item":
+            free = [c for c in (first, second) if fixed[c] is None]
+            if len(free) != 1:
+                raise CompileError(f"{{{node.key}:item(…)}}: the context must fix all but "
+                                   f"one of {first}, {second}")
+            fixed[free[0]] = self._item_argument(node, context)
+        a, b = fixed[first], fixed[second]
+        if b is None or isinstance(b, str):
+            if a is None and b is None and (node.part == "all" or context.grid is None):
+                return self.name(node.key)
+            raise CompileError(f"{{{node.key}}}: which {second}?")
+        left = place.col + (b - 1) * size
+        if isinstance(a, int):
+            return self._column(node, place, context, col=left + a - 1)
+        top, bottom = self.grid_rows[place.grid]
+        if context.grid == place.grid:
+            first_cell = self._cell(place.sheet, 0, left, context, row_text=ROW)
+            row_range = f"{first_cell}:${xl_col_to_name(left + size - 1)}{ROW}"
+            if a is None:
+                return row_range
+            return f"INDEX({row_range},1,{a})" if size > 1 else first_cell
+        if a is not None:
+            raise CompileError(f"{{{node.key}:item({a})}} outside its grid")
+        first_row = top + 1 if node.part == "tail" else top
+        last_row = bottom - 1 if node.part == "head" else bottom
+        return (f"{quote_sheet(place.sheet)}!${xl_col_to_name(left)}${first_row + 1}:"
+                f"${xl_col_to_name(left + size - 1)}${last_row + 1}")
+
     def _block(self, node, place, axis, context):
+        if self.spec.axis[axis].product and node.part != "items":
+            return self._product_block(node, place, axis, context)
         if node.part == "items":
             if context.grid == place.grid:
                 first = self._cell(place.sheet, 0, place.col, context, row_text=ROW)

@@ -9,6 +9,7 @@ A template is Excel formula text with placeholders in braces (templates/README.m
     {key:item(EXPR)}    item EXPR (1-based) of a per-item quantity
     {key|unit}          converted into ``unit`` (any part may be converted too)
     {item} {index}      the formula's own item number; the summation index
+    {item:axis}         that axis's part of the formula's own item of a product axis
     {row_index}         0-based row of the formula within its grid
     {sum:axis(EXPR)}    EXPR summed over the items of ``axis``
 
@@ -38,6 +39,7 @@ class Ref:
 @dataclass(frozen=True)
 class Special:
     name: str                        # item, index, row_index
+    axis: str | None = None          # {item:throw}: that axis's part of a product item
 
 
 @dataclass(frozen=True)
@@ -110,6 +112,9 @@ def _placeholder(text, i):
     key, i = _name(text, i)
     if key in SPECIAL and text.startswith("}", i):
         return Special(key), i + 1
+    if key == "item" and text.startswith(":", i):
+        axis, i = _name(text, i + 1)
+        return Special(key, axis), _close(text, i)
     part = argument = unit = None
     if text.startswith(":", i):
         part, i = _name(text, i + 1)
@@ -159,7 +164,7 @@ def unparse(nodes):
         if isinstance(node, str):
             out.append(node)
         elif isinstance(node, Special):
-            out.append("{" + node.name + "}")
+            out.append("{" + node.name + (":" + node.axis if node.axis else "") + "}")
         elif isinstance(node, Sum):
             out.append("{sum:" + node.axis + "(" + unparse(node.body) + ")}")
         else:

@@ -2,7 +2,9 @@
 
 Two columns: crank angle [deg] (0 = TDC of the intake stroke, firing TDC at 360°,
 any range such as −360…360) and absolute pressure [MPa]; an optional header row
-(a first row of which neither cell is a number); rows in any order.  The trace is
+(a first row of which neither cell is a number); rows in any order.  Or, as a test
+bench records several speeds: a header row ``angle, 1000, 2000, …`` and one pressure
+column per speed (r/min), every row a crank angle and a pressure for each speed.  The trace is
 wrapped into one working cycle, sorted and closed (a point before 0° and one after
 the cycle) so that the workbook's interpolation covers every grid angle.  A crank
 angle that occurs twice (−360° and 360° are one angle) keeps the mean of its
@@ -11,6 +13,7 @@ Nothing is dropped silently.
 """
 import csv
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +25,8 @@ from crankbook.xlsx_reader import Unreadable, XlsxBook, sheet_rows
 MAX_GAP = 30.0             # deg: a coarser trace does not describe the cycle
 MAX_PRESSURE = 50.0        # MPa: beyond any engine; such numbers are kPa or bar
 MAX_ROWS = 200_000
+MAX_SPEEDS = 24            # pressure columns of one file (the operating points' limit)
+MAX_SPEED = 30000.0        # r/min, as the speed parameter's bound
 MAX_BYTES = 20 * 1024 * 1024
 REPEAT_TOLERANCE = 0.02    # relative: one angle measured twice (e.g. −360° and 360°)
 SAME_ANGLE = 1e-9          # deg: angles closer than this are one angle
@@ -67,9 +72,21 @@ def _number(value):
     return float(text) if NUMBER.match(text) else None
 
 
-def read_trace(path, cycle=720.0):
-    """(angles [deg], pressures [MPa]) of the trace in ``path``, ready for the workbook
-    of a ``cycle``-degree working cycle."""
+@dataclass(frozen=True)
+class Traces:
+    """What a pressure file holds: one trace (``speeds`` empty, ``pressures`` (M,)) or
+    one per speed (``speeds`` in r/min, ``pressures`` (M, len(speeds))), at the
+    crank angles ``angles`` (M,), closed over the cycle."""
+    angles: np.ndarray
+    pressures: np.ndarray
+    speeds: tuple = ()
+
+    def column(self, speed):
+        """The trace of one speed [MPa]."""
+        return self.pressures[:, self.speeds.index(speed)]
+
+
+def _rows_of_file(path):
     path = Path(path)
     if not path.is_file():
         raise PressureFileError(f"pressure file {path}: no such file")
@@ -78,13 +95,25 @@ def read_trace(path, cycle=720.0):
                                 f"{MAX_BYTES // 2 ** 20} MB")
     suffix = path.suffix.lower()
     if suffix in (".csv", ".txt", ".tsv"):
-        rows = _rows_from_csv(path)
-    elif suffix == ".xlsx":
-        rows = _rows_from_xlsx(path)
-    else:
-        raise PressureFileError(f"pressure file {path}: use a .csv or .xlsx file "
-                                f"(two columns: crank angle deg, pressure MPa)")
-    return _trace_of_rows(f"pressure file {path}", rows, cycle)
+        return _rows_from_csv(path)
+    if suffix == ".xlsx":
+        return _rows_from_xlsx(path)
+    raise PressureFileError(f"pressure file {path}: use a .csv or .xlsx file "
+                            f"(crank angle [deg], then pressure [MPa]: one column, or one per "
+                            f"speed headed by the speed in r/min)")
+
+
+def read_trace(path, cycle=720.0):
+    """(angles [deg], pressures [MPa]) of the one trace in ``path``, ready for the
+    workbook of a ``cycle``-degree working cycle."""
+    return _trace_of_rows(f"pressure file {path}", _rows_of_file(path), cycle)
+
+
+def read_traces(path, cycle=720.0):
+    """The Traces in ``path``: two columns (crank angle, pressure), or a crank-angle
+    column headed ``angle`` and one pressure column per speed headed by the speed in
+    r/min, as a test bench records them."""
+    return traces_of_rows(f"pressure file {path}", _rows_of_file(path), cycle)
 
 
 def trace_from_columns(what, angles, pressures, cycle=720.0):
@@ -92,12 +121,55 @@ def trace_from_columns(what, angles, pressures, cycle=720.0):
     return _trace_of_rows(what, [[a, p] for a, p in zip(list(angles), list(pressures))], cycle)
 
 
-def _trace_of_rows(what, rows, cycle):
+def _filled(row):
+    return [c for c in row if c is not None and str(c).strip() != ""]
+
+
+def traces_of_rows(what, rows, cycle=720.0):
+    """Traces from rows as a file holds them (see :func:`read_traces`)."""
+    if not rows or max(len(_filled(r)) for r in rows[:MAX_ROWS + 1]) <= 2:
+        angles, pressures = _trace_of_rows(what, rows, cycle)
+        return Traces(angles, pressures)
+    header, body = rows[0], rows[1:]
+    cells = [str(c).strip() if c is not None else "" for c in header]
+    while cells and not cells[-1]:
+        cells.pop()
+    if _number(cells[0]) is not None:
+        raise PressureFileError(f"{what}: a file of several pressure columns needs a header "
+                                f"row: angle, then the speed of each column in r/min")
+    speeds = []
+    for number, text in enumerate(cells[1:], start=2):
+        speed = _number(text)
+        if speed is None or not 0 < speed <= MAX_SPEED:
+            raise PressureFileError(f"{what}, column {number}: header {text[:30]!r} is not a "
+                                    f"speed in r/min (> 0 and ≤ {MAX_SPEED:g})")
+        if speed in speeds:
+            raise PressureFileError(f"{what}, column {number}: speed {speed:g} r/min appears "
+                                    f"twice")
+        speeds.append(speed)
+    if len(speeds) > MAX_SPEEDS:
+        raise PressureFileError(f"{what}: {len(speeds)} speeds, at most {MAX_SPEEDS}")
+    angles, columns = None, []
+    for index, speed in enumerate(speeds, start=1):
+        column_rows = [[row[0] if len(row) > 0 else None,
+                        row[index] if len(row) > index else None] for row in body]
+        closed_angles, pressures = _trace_of_rows(f"{what}, column {speed:g} r/min",
+                                                  column_rows, cycle, numbered_from=2)
+        if angles is not None and not np.array_equal(angles, closed_angles):
+            raise PressureFileError(f"{what}, column {speed:g} r/min: its crank angles differ "
+                                    f"from the first column's (every pressure needs a value "
+                                    f"in every row)")
+        angles = closed_angles
+        columns.append(pressures)
+    return Traces(angles, np.column_stack(columns), tuple(speeds))
+
+
+def _trace_of_rows(what, rows, cycle, numbered_from=1):
     if len(rows) > MAX_ROWS:
         raise PressureFileError(f"{what}: more than {MAX_ROWS} rows")
     angles, pressures = [], []
-    for number, row in enumerate(rows, start=1):
-        cells = [c for c in row if c is not None and str(c).strip() != ""]
+    for number, row in enumerate(rows, start=numbered_from):
+        cells = _filled(row)
         if len(cells) != 2:
             raise PressureFileError(f"{what}, row {number}: needs exactly two columns, crank "
                                     f"angle [deg] and pressure [MPa] (found {len(cells)})")

@@ -84,6 +84,12 @@ class Axis:
     size_calc: str | None = None
     size_args: dict = field(default_factory=dict)
     max: int = 64
+    # a product of two axes (throws × pressure cases): item m is (a, b) with
+    # m = (b − 1)·size(a) + a, the first axis counting fastest
+    product: tuple = ()
+    # an axis of one item or as many as ``aligned`` (a pressure per operating point, or
+    # one for all): a formula of item k of ``aligned`` means item k here, or item 1
+    aligned: str | None = None
 
     def label(self, lang, number):
         return f"{self.label_zh if lang == 'zh' else self.label_en} {number}"
@@ -105,6 +111,7 @@ class InputColumn:
     unit: str
     zh: str
     en: str
+    items: str | None = None      # one column per item of this axis (a trace per speed)
 
 
 @dataclass(frozen=True)
@@ -276,6 +283,10 @@ class WorkbookSpec:
             if key in table:
                 return table[key].unit
         raise KeyError(key)
+
+    def components(self, axis):
+        """The axes of a product axis, or (axis,) for a plain one."""
+        return self.axis[axis].product or (axis,)
 
     def grid_options(self):
         """Numeric grids whose step a build option sets: option name -> grid."""

@@ -37,8 +37,18 @@ def check(spec):
         if p.kind == "choice" and not p.choices:
             raise SpecError(spec.file, p.key, "a choice parameter needs 'choices'")
     for a in spec.axes:
+        if a.product:
+            if len(a.product) != 2 or any(c not in spec.axis or spec.axis[c].product
+                                          for c in a.product):
+                raise SpecError(spec.file, a.key, "a product axis names two plain axes")
+            continue
+        if a.aligned is not None and (a.aligned not in spec.axis or a.aligned == a.key):
+            raise SpecError(spec.file, a.key, f"aligned to unknown axis {a.aligned!r}")
         if a.size_calc is None and not spec.item_parameters(a.key):
             raise SpecError(spec.file, a.key, "an axis needs per-item parameters or a size_calc")
+    for column in spec.table_column.values():
+        if column.items and column.items not in spec.axis:
+            raise SpecError(spec.file, column.key, f"unknown axis {column.items!r}")
     for q in spec.quantities():
         _check_quantity(spec, q, known)
     for s in spec.sheets:
@@ -47,11 +57,17 @@ def check(spec):
                 raise SpecError(spec.file, s.key, "x_each needs one x per y")
             for key in chart.y + ((chart.x,) if chart.x else ()) + chart.x_each:
                 q = spec.quantity.get(key)
-                on_items = s.kind == "items" and q is not None and q.items == s.axis
-                if q is None or not (q.is_series or on_items):
+                if q is None and key in spec.parameter:     # an items sheet's own input
+                    q = spec.parameter[key]
+                    on_items = s.kind == "items" and q.axis == s.axis
+                    q = q if on_items else None
+                else:
+                    on_items = s.kind == "items" and q is not None and q.items == s.axis
+                if q is None or not (on_items or q.is_series):
                     raise SpecError(spec.file, s.key, f"chart lists {key!r}, not a series "
                                     f"(or, on an items sheet, a value per item)")
-            if chart.x is None and any(spec.quantity[k].grid != s.grid for k in chart.y):
+            if chart.x is None and any(spec.quantity[k].grid != s.grid for k in chart.y
+                                       if k in spec.quantity):
                 raise SpecError(spec.file, s.key, "a chart over the sheet's grid lists a series "
                                                   "of another grid")
         if s.kind == "items" and s.axis not in spec.axis:
@@ -111,6 +127,9 @@ def _check_nodes(spec, q, nodes, known, where, sums):
         if isinstance(node, Special):
             if node.name == "item" and not q.items:
                 raise SpecError(where, q.key, "{item} outside a per-item quantity")
+            if node.axis and node.axis not in spec.components(q.items):
+                raise SpecError(where, q.key, f"{{item:{node.axis}}}: {node.axis!r} is not "
+                                              f"an axis of {q.items!r}")
             if node.name == "index" and not sums:
                 raise SpecError(where, q.key, "{index} outside {sum:…}")
         elif isinstance(node, Sum):

@@ -316,7 +316,8 @@ def build(data, file):
     parameters = [_parameter(p) for p in data["parameter"]]
     axes = [Axis(key=a["key"], zh=a["zh"], en=a["en"], label_zh=a.get("label_zh", a["zh"]),
                  label_en=a.get("label_en", a["en"]), size_calc=a.get("size_calc"),
-                 size_args=dict(a.get("size_args", {})), max=a.get("max", 64))
+                 size_args=dict(a.get("size_args", {})), max=a.get("max", 64),
+                 product=tuple(a.get("product", ())), aligned=a.get("aligned"))
             for a in data["axis"]]
     constants = [Constant(key=c["key"], unit=c["unit"], value=float(c["value"]),
                           zh=c.get("zh", ""), en=c.get("en", "")) for c in data["constant"]]

@@ -195,14 +195,23 @@ def read_inputs(book, spec, ranges, path):
                 raise WorkbookReadError(f"{path}: parameter {name} holds {raw!r}, not a number")
             values[p.key] = number
     tables = {}
-    for key in spec.table_column:
+    for key, table_column in spec.table_column.items():
         found = ranges.get(f"p_{key}")
         if found is None:
             raise WorkbookReadError(f"{path}: the defined name p_{key} is missing")
-        if found.cols != 1 or found.rows > 200_000:
-            raise WorkbookReadError(f"{path}: name p_{key} is not one column of a trace")
-        column = [_number(v) for v in cells(book, found)]
-        tables[key] = np.array([v for v in column if v is not None], dtype=float)
+        width = found.cols if table_column.items else 1
+        widest = spec.axis[table_column.items].max if table_column.items else 1
+        if found.cols > widest or found.rows > 200_000:
+            raise WorkbookReadError(f"{path}: name p_{key} is not "
+                                    + ("a block of traces" if table_column.items
+                                       else "one column of a trace"))
+        numbers = [_number(v) for v in cells(book, found)]
+        if table_column.items:      # one column per item: the rows where every one is a number
+            rows = [numbers[i:i + width] for i in range(0, len(numbers), width)]
+            tables[key] = np.array([r for r in rows if None not in r], dtype=float) \
+                .reshape(-1, width)
+        else:
+            tables[key] = np.array([v for v in numbers if v is not None], dtype=float)
     grids = {}
     for grid in spec.grids:
         if not grid.is_numeric_grid:

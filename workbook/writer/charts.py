@@ -19,16 +19,15 @@ def _ranges(layout, key, results, short=False):
     """(name, range) of each curve of a series: one, or one per item (named by the item
     alone when ``short``: the curves of a polar diagram)."""
     spec, locator = layout.spec, layout.locator
-    quantity = spec.quantity[key]
+    quantity = spec.quantity.get(key) or spec.parameter[key]
     place = layout.places[key]
     if place.kind == "items":            # one value per item, down an items sheet
         cells = xl_range_abs(place.row, place.col, place.row + place.count - 1, place.col)
         return [(label(quantity, layout.lang), f"{quote_sheet(place.sheet)}!{cells}")]
     if not quantity.items:
         return [(label(quantity, layout.lang), locator.column_range(key))]
-    axis = spec.axis[quantity.items]
-    return [(axis.label(layout.lang, i + 1) if short else
-             f"{label(quantity, layout.lang)} — {axis.label(layout.lang, i + 1)}",
+    words = [layout.item_label(quantity.items, layout.lang, i + 1) for i in range(place.count)]
+    return [(words[i] if short else f"{label(quantity, layout.lang)} — {words[i]}",
              locator.column_range(key, col=place.col + i)) for i in range(place.count)]
 
 
@@ -62,7 +61,7 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
     spec, lang = layout.spec, layout.lang
     sheet = layout.sheet_name[sheet_spec.key]
     x_key = chart_spec.x or sheet_spec.grid
-    x_q = spec.quantity[x_key]
+    x_q = spec.quantity.get(x_key) or spec.parameter[x_key]     # an items sheet's input too
     kind = "column" if chart_spec.type == "column" else "scatter"
     chart = book.add_chart({"type": kind} if kind == "column" else
                            {"type": "scatter", "subtype": "straight"})
@@ -98,7 +97,7 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
               "label_position": "low"}
     y_axis = {"name": f"{label(chart_spec, lang, 'axis_')} [{unit_text(chart_spec.unit)}]",
               "major_gridlines": GRIDLINES}
-    if chart_spec.x is None and x_q.chart_range and x_q.chart_range[0] is not None \
+    if chart_spec.x is None and getattr(x_q, "chart_range", None) and x_q.chart_range[0] is not None \
             and kind == "scatter":
         low, high, major = x_q.chart_range
         x_axis.update({"min": low, "max": high, "major_unit": major})

@@ -74,6 +74,19 @@ class Layout:
                           tuple(sorted(axis_sizes.items())),
                           tuple(sorted(self.table_capacity.items())))
 
+    def item_label(self, axis_key, lang, item):
+        """'Throw 2', or for an item of a product axis 'Throw 2 · Pressure 3' (a part
+        whose axis has a single item is left out)."""
+        axis = self.spec.axis[axis_key]
+        if not axis.product:
+            return axis.label(lang, item)
+        first, second = axis.product
+        size = self.axis_sizes[first]
+        words = [self.spec.axis[first].label(lang, (item - 1) % size + 1)]
+        if self.axis_sizes[second] > 1:
+            words.append(self.spec.axis[second].label(lang, (item - 1) // size + 1))
+        return " · ".join(words)
+
     def series_template(self, quantity, sheet_name, item=None, first=False):
         """The compiled formula of a series column (its first row's when ``first``)."""
         return _compiled(self, self.signature, quantity.key, sheet_name, item, first)
@@ -109,11 +122,13 @@ class Layout:
             for table in spec.input_tables:
                 if table.sheet == sheet.key:
                     self.table_start[table.key] = col + 1
-                    for offset, column in enumerate(table.columns):
+                    col += 1
+                    for column in table.columns:
+                        width = self.axis_sizes[column.items] if column.items else 1
                         self.places[column.key] = Place(
-                            "range", self.sheet_name[sheet.key], FIRST_ROW, col + 1 + offset,
-                            count=self.table_capacity[table.key])
-                    col += len(table.columns) + 1
+                            "range", self.sheet_name[sheet.key], FIRST_ROW, col,
+                            count=self.table_capacity[table.key], width=width)
+                        col += width
 
     def _place_items_sheets(self):
         spec, plans, homes = self.spec, [], {}

@@ -107,9 +107,8 @@ def _write_column(ws, quantity, layout, results, styles, sheet_name, rows):
         if item is None:
             words = _words(quantity, layout)
         else:
-            axis = spec.axis[quantity.items]
-            words = (f"{label(quantity, layout.lang)} — {axis.label(layout.lang, item)}",
-                     f"{label(quantity, layout.other)} — {axis.label(layout.other, item)}")
+            words = tuple(f"{label(quantity, lang)} — {layout.item_label(quantity.items, lang, item)}"
+                          for lang in (layout.lang, layout.other))
         headers(ws, col, words, quantity.unit, layout, styles)
         template = layout.series_template(quantity, sheet_name, item)
         first = layout.series_template(quantity, sheet_name, item, first=True)
@@ -119,15 +118,21 @@ def _write_column(ws, quantity, layout, results, styles, sheet_name, rows):
 
 def _write_input_table(ws, table, layout, results, styles):
     """Editable input columns (e.g. a measured trace), named p_<key> over the capacity."""
-    start = layout.table_start[table.key]
     capacity = layout.table_capacity[table.key]
-    for offset, column in enumerate(table.columns):
-        col = start + offset
-        headers(ws, col, _words(column, layout), column.unit, layout, styles)
+    for column in table.columns:
+        place = layout.places[column.key]
         values = results.get(column.key, [])
         fmt = styles.number(column.unit, role="input")
-        for i in range(capacity):
-            if i < len(values):
-                ws.write_number(FIRST_ROW + i, col, float(values[i]), fmt)
-            else:
-                ws.write_blank(FIRST_ROW + i, col, None, fmt)
+        for offset in range(place.width):
+            col = place.col + offset
+            words = _words(column, layout)
+            if column.items:
+                words = tuple(f"{w} — {layout.item_label(column.items, lang, offset + 1)}"
+                              for w, lang in zip(words, (layout.lang, layout.other)))
+            headers(ws, col, words, column.unit, layout, styles)
+            data = [row[offset] for row in values] if column.items else values
+            for i in range(capacity):
+                if i < len(data):
+                    ws.write_number(FIRST_ROW + i, col, float(data[i]), fmt)
+                else:
+                    ws.write_blank(FIRST_ROW + i, col, None, fmt)
