@@ -13,7 +13,7 @@ import numpy as np
 
 from crankbook import recalc
 from crankbook.verification import expected_values
-from crankbook.workbook_reader import load_named, read_results
+from crankbook.workbook_reader import load_named
 from tests.conftest import edit_cells, named, run_cli
 
 ENGINES = ("libreoffice", "gnumeric")

@@ -148,7 +148,7 @@ def consequential_answers(pack, sid):
     from crankbook.assignment.grade import manifest_values
     from crankbook.assignment.key import expected, key_results
     spec, _, preset = params.load_preset("course-design")
-    with open(pack / "manifest.csv", newline="", encoding="utf-8") as handle:
+    with open(pack / "manifest.csv", newline="", encoding="utf-8-sig") as handle:
         row = next(r for r in csv.DictReader(handle) if r["student_id"] == sid)
     key = key_results(ASSIGNMENT, spec, preset, manifest_values(spec, row))
     own = expected(ASSIGNMENT, spec, key, overrides={
@@ -221,10 +221,29 @@ def test_consequential_errors_earn_the_rubric_fraction(graded):
         assert item_points(graded, "s06", key) >= 0.8 * item.points - 1e-9, (key, row)
 
 
-def test_another_students_file_is_flagged(graded):
-    assert "wrong-student" in graded["by_id"]["s07"]["flags"]
-    assert "s08" in graded["by_id"]["s07"]["notes"]
-    assert "duplicate" in graded["by_id"]["s07"]["flags"]
+def test_another_students_file_is_flagged_for_the_teacher_only(graded):
+    copier, source = graded["by_id"]["s07"], graded["by_id"]["s08"]
+    assert {"wrong-student", "copy-suspect"} <= set(copier["flags"].split(";"))
+    assert "s08" in copier["notes"]
+    assert not {"copy-suspect", "wrong-student"} & set(source["flags"].split(";")), \
+        "the student copied from is told apart from the copier"
+    report = openpyxl.load_workbook(graded["results"] / "integrity.xlsx").active
+    rows = [[c.value for c in row] for row in report.iter_rows(min_row=5)]
+    assert any(str(r[0]).startswith("s07") and str(r[1]).startswith("s08") for r in rows)
+    assert not any(str(r[0]).startswith("s08") for r in rows)
+
+
+def test_no_student_sees_anything_about_another(graded):
+    """Feedback files and the LMS import never name a classmate, whatever the flags."""
+    others = {sid: [o for o in ROSTER if o != sid] for sid in ROSTER}
+    lms = {r["identifier"]: r["feedback"] for r in csv.DictReader(io.StringIO(
+        (graded["results"] / "lms-import.csv").read_text(encoding="utf-8-sig")))}
+    for sid in ROSTER:
+        text = (graded["results"] / "feedback" / f"{sid}.md").read_text(encoding="utf-8")
+        for other in others[sid]:
+            assert other not in text and NAMES[other] not in text, (sid, other)
+            assert other not in lms[sid], (sid, other)
+        assert "feedback/" not in lms[sid] and ".md" not in lms[sid]
 
 
 def test_edited_parameter_is_flagged_but_graded_against_the_assignment(graded):
@@ -244,13 +263,13 @@ def test_csv_outputs_cannot_execute_and_ids_stay_ids(graded):
             for field in row:
                 assert not field.startswith(("=", "+", "-", "@")), (name, field)
     lms = list(csv.DictReader(io.StringIO((graded["results"] / "lms-import.csv")
-                                          .read_text(encoding="utf-8"))))
+                                          .read_text(encoding="utf-8-sig"))))
     assert [r["identifier"] for r in lms] == ROSTER
 
 
 def test_missing_students_are_blank_in_the_lms_import(graded):
     lms = {r["identifier"]: r for r in csv.DictReader(io.StringIO(
-        (graded["results"] / "lms-import.csv").read_text(encoding="utf-8")))}
+        (graded["results"] / "lms-import.csv").read_text(encoding="utf-8-sig")))}
     assert lms["s11"]["grade"] == "" and lms["s10"]["grade"] == ""
     assert graded["by_id"]["s11"]["status"] == "missing" and graded["by_id"]["s11"]["score"] == ""
     assert float(lms["s01"]["grade"]) == 100.0
@@ -321,8 +340,22 @@ def test_the_statement_and_the_key_agree_on_the_resisting_torque(graded, pack):
     (0.1, 100.0, "mm", 0.05, "unit_slip"),                # mm given in m
     (-100.0, 100.0, "N·m", 1.0, "sign_slip"),
     (-2.0, 2.0, "N·m", 1.0, "wrong"),                    # not clearly non-zero: no sign slip
-    ("１００", 100.0, "mm", 0.05, "not_a_number"),       # full-width digits
+    ("１００", 100.0, "mm", 0.05, "correct"),            # full-width digits (an IME)
+    ("５８．８１", 58.81, "m/s", 0.01, "correct"),
     ("100,0", 100.0, "mm", 0.05, "correct"),             # a decimal comma
+    ("103.4mm", 103.4, "mm", 0.05, "correct"),           # the header's own unit typed
+    ("4.019 m/s", 4.019, "m/s", 0.01, "correct"),
+    ("0.1034 m", 103.4, "mm", 0.05, "unit_slip"),        # another unit of the dimension
+    ("103.4 N", 103.4, "mm", 0.05, "wrong_unit"),
+    ("about 5", 5.0, "mm", 0.05, "not_a_number"),
+    (0.0, 4000.0, "N·m", 5.0, "wrong"),                  # a zero is never a slip
+    (0.0, 103.4, "mm", 0.05, "wrong"),
+    (0.0, 0.0, "N·m", 5.0, "correct"),                   # … but right where the key is 0
+    (4.763, -139.05, "N·m", 5.0, "wrong"),               # judged in the item's unit
+    (4.0e6, 4000.0, "N·m", 5.0, "unit_slip"),            # N·mm, the textbooks' unit
+    (-1.3905e5, -139.05, "N·m", 5.0, "unit_slip"),
+    (25.3e6, 25.3, "kg·m²", 0.5, "unit_slip"),           # kg·mm²
+    (2.53e5, 25.3, "kg·m²", 0.5, "unit_slip"),           # kg·cm²
 ])
 def test_slips_follow_the_items_dimension(value, expected, unit, floor, reason):
     item = templates.Item(key="x", points=1, tolerance=0.01, zh="x", en="x", unit=unit,
@@ -331,7 +364,7 @@ def test_slips_follow_the_items_dimension(value, expected, unit, floor, reason):
 
 
 def test_synthesis_key_matches_an_independent_synthesis(pack):
-    with open(pack / "manifest.csv", newline="", encoding="utf-8") as handle:
+    with open(pack / "manifest.csv", newline="", encoding="utf-8-sig") as handle:
         rows = list(csv.DictReader(handle))
     for row in rows:
         values = key_answers(pack, row["student_id"])
@@ -344,7 +377,7 @@ def test_synthesis_key_matches_an_independent_synthesis(pack):
 
 
 def test_variants_are_distinct_valid_and_printable(pack):
-    with open(pack / "manifest.csv", newline="", encoding="utf-8") as handle:
+    with open(pack / "manifest.csv", newline="", encoding="utf-8-sig") as handle:
         rows = list(csv.DictReader(handle))
     assert [r["student_id"] for r in rows] == ROSTER and rows[0]["班级"] == "机械1班"
     assert rows[0]["name"] == "学生1号"
@@ -398,8 +431,8 @@ def test_same_roster_and_seed_give_identical_files(pack, tmp_path):
         digests.append({p.relative_to(tmp_path / out): hashlib.sha256(p.read_bytes()).hexdigest()
                         for p in sorted((tmp_path / out).rglob("*")) if p.is_file()})
     assert digests[0] == digests[1]
-    with open(tmp_path / "a" / "manifest.csv", encoding="utf-8") as a, \
-            open(pack / "manifest.csv", encoding="utf-8") as b:
+    with open(tmp_path / "a" / "manifest.csv", encoding="utf-8-sig") as a, \
+            open(pack / "manifest.csv", encoding="utf-8-sig") as b:
         assert list(csv.DictReader(a)) == list(csv.DictReader(b))[:3]
 
 
@@ -511,9 +544,183 @@ def test_hostile_files_are_unreadable_and_the_batch_goes_on(pack, tmp_path):
     done = run_cli("grade", pack, subs, "-o", tmp_path / "res")
     assert done.returncode == 0, done.stderr
     rows, _ = read_gradebook(tmp_path / "res")
-    assert rows["s01"]["status"] == "unreadable" and "password-protected" in rows["s01"]["notes"]
-    assert rows["s02"]["status"] == "unreadable" and "macro" in rows["s02"]["notes"]
-    assert rows["s03"]["status"] == "unreadable" and "zip bomb" in rows["s03"]["notes"]
-    assert rows["s04"]["status"] == "unreadable" and "entit" in rows["s04"]["notes"]
-    assert rows["s06"]["status"] == "unreadable" and "macro" in rows["s06"]["notes"]
+    # reasons in the class's language (a Chinese class)
+    assert rows["s01"]["status"] == "unreadable" and "设了密码" in rows["s01"]["notes"]
+    assert rows["s02"]["status"] == "unreadable" and "含宏" in rows["s02"]["notes"]
+    assert rows["s03"]["status"] == "unreadable" and "解压后异常巨大" in rows["s03"]["notes"]
+    assert rows["s04"]["status"] == "unreadable" and "XML 实体" in rows["s04"]["notes"]
+    assert rows["s06"]["status"] == "unreadable" and "含宏" in rows["s06"]["notes"]
     assert rows["s05"]["status"] == "graded" and float(rows["s05"]["score"]) == 100.0
+
+
+# ---------------------------------------------------------------- defensible grading (issue 22)
+def _grade_one(pack, tmp_path, sid, answers, change=None, name="sub"):
+    """Grade one student's file (answers typed, then ``change`` applied to the saved
+    workbook as a person would edit it); returns (gradebook row, feedback text)."""
+    subs = tmp_path / name
+    fill(pack / "students" / f"{sid}.xlsx", subs / f"{sid}.xlsx", answers)
+    if change:
+        change(subs / f"{sid}.xlsx")
+    done = run_cli("grade", pack, subs, "-o", tmp_path / f"{name}-results")
+    assert done.returncode == 0, done.stderr
+    rows, _ = read_gradebook(tmp_path / f"{name}-results")
+    feedback = (tmp_path / f"{name}-results" / "feedback" / f"{sid}.md").read_text(encoding="utf-8")
+    return rows[sid], feedback
+
+
+def _item(row, key):
+    return float(next(v for c, v in row.items() if c.endswith(f"(a_{key})")))
+
+
+def test_consequential_credit_follows_the_students_whole_mechanism(pack, tmp_path):
+    """A wrong K carried through correctly: θ, r (inside the tolerance) and l (far off)
+    are the student's own, and so are the positions A12–A14; every downstream item
+    earns at least 90 % of the consequential credit the rubric allows."""
+    from crankbook import params
+    from crankbook.assignment.grade import manifest_values
+    from crankbook.assignment.key import expected, key_results
+    spec, _, preset = params.load_preset("course-design")
+    with open(pack / "manifest.csv", newline="", encoding="utf-8-sig") as handle:
+        row = next(r for r in csv.DictReader(handle) if r["student_id"] == "s03")
+    values = manifest_values(spec, row)
+    key = key_results(ASSIGNMENT, spec, preset, values)
+    H, e, K = values["stroke"] / 1000, values["offset"] / 1000, values["time_ratio"]
+    for wrong_k in np.arange(K + 0.005, K + 0.2, 0.005):
+        r = mechanism.crank_radius_from_design(H, e, wrong_k) * 1000
+        l_ = mechanism.rod_length_from_design(H, e, wrong_k) * 1000
+        if abs(r / key.results["crank_radius"] - 1) < 0.009 < abs(l_ / key.results["rod_length"] - 1):
+            break
+    own = expected(ASSIGNMENT, spec, key, overrides={"crank_radius": r, "rod_length": l_})
+    answers = {k: (v["value"].tolist() if k in POSITION_ITEMS else float(v["value"][0]))
+               for k, v in own.items()}
+    answers["extreme_angle"] = 180 * (wrong_k - 1) / (wrong_k + 1)
+    answers.update({k: key_answers(pack, "s03")[k] for k in CAM_ITEMS})
+    graded_row, feedback = _grade_one(pack, tmp_path, "s03", answers)
+    assert "不是任何位置" not in feedback
+    fraction = ASSIGNMENT.rubric["consequential"]["fraction"]
+    for item in ASSIGNMENT.items:
+        if item.consequential:
+            assert _item(graded_row, item.key) >= 0.9 * fraction * item.points - 1e-9, item.key
+
+
+def test_an_inserted_note_row_and_a_second_revolution_typed_from_zero(pack, tmp_path):
+    answers = key_answers(pack, "s01")
+    angles = list(answers["pos_crank_angle"])
+    answers["pos_crank_angle"] = angles[:15] + [a - 360 for a in angles[15:]]   # A0′… as 0–330
+
+    def insert_note_row(path):
+        book = openpyxl.load_workbook(path)
+        sheet, ref = next(iter(book.defined_names["a_pos_slider_velocity"].destinations))
+        ws = book[sheet]
+        ws.insert_rows(12)                                 # inside the table, as Excel does
+        ws.cell(row=12, column=1, value="备注：下面是我算的")
+        for name in list(book.defined_names):
+            found = book.defined_names[name]
+            where, block = next(iter(found.destinations))
+            if where == sheet and ":" in block:
+                top, bottom = block.replace("$", "").split(":")
+                found.attr_text = f"'{sheet}'!${top[0]}${top[1:]}:${bottom[0]}${int(bottom[1:]) + 1}"
+        book.save(path)
+    row, feedback = _grade_one(pack, tmp_path, "s01", answers, insert_note_row)
+    assert float(row["score"]) == 100.0, row["notes"]
+    assert "rows-edited" in row["flags"] and "positions" in row["flags"]
+    assert "第二转" in feedback and "插入或删除了" in feedback
+
+
+def test_a_resubmission_round_loses_nothing(graded, pack, tmp_path):
+    second = tmp_path / "round2"
+    fill(pack / "students" / "s04.xlsx", second / "s04.xlsx", graded["perfect"]["s04"])
+    shutil.copy(pack / "students" / "s05.xlsx", second / "s05.xlsx")     # blank this time
+    done = run_cli("grade", pack, second, "-o", tmp_path / "r2", "--previous",
+                   graded["results"], "--keep", "best")
+    assert done.returncode == 0, done.stderr
+    rows, _ = read_gradebook(tmp_path / "r2")
+    first = graded["by_id"]
+    for sid in ("s01", "s06", "s07", "s13"):          # did not resubmit: the whole row kept
+        assert rows[sid]["score"] == first[sid]["score"]
+        for column, value in first[sid].items():
+            if column.endswith(")") and "(a_" in column:
+                assert rows[sid][column] == value, (sid, column)
+        assert set(first[sid]["flags"].split(";")) <= set(rows[sid]["flags"].split(";"))
+    assert float(rows["s04"]["score"]) == 100.0
+    # keep best: s05's better first round whole — its items and its feedback
+    assert rows["s05"]["score"] == first["s05"]["score"]
+    text = (tmp_path / "r2" / "feedback" / "s05.md").read_text(encoding="utf-8")
+    assert "符号相反" in text
+    report = openpyxl.load_workbook(tmp_path / "r2" / "class-report.xlsx")
+    assert "11/13" in report["各题"]["A1"].value
+
+
+def test_a_gradebook_as_teachers_open_it(tmp_path):
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名,班级\n012301011012,王五,机械2班\n", encoding="gbk")
+    done = run_cli("assign", "--roster", roster, "--seed", "3", "-o", tmp_path / "class")
+    assert done.returncode == 0, done.stderr
+    assert "已写入" in done.stdout                      # the class's language
+    subs = tmp_path / "subs"
+    fill(tmp_path / "class" / "students" / "012301011012.xlsx", subs / "012301011012.xlsx",
+         key_answers(tmp_path / "class", "012301011012"))
+    done = run_cli("grade", tmp_path / "class", subs, "-o", tmp_path / "res")
+    assert done.returncode == 0 and "已评分 1/1" in done.stdout, done.stdout + done.stderr
+    book = openpyxl.load_workbook(tmp_path / "res" / "gradebook.xlsx")
+    ws = book.active
+    header = [c.value for c in ws[1]]
+    row = {h: c.value for h, c in zip(header, ws[2])}
+    assert row["student_id"] == "012301011012" and row["班级"] == "机械2班"
+    assert row["status"] == "graded" and row["status_text"] == "已评分"
+    assert row["score"] == 100
+    raw = (tmp_path / "res" / "gradebook.csv").read_bytes()
+    assert raw.startswith(b"\xef\xbb\xbf") and b'"012301011012"' in raw
+    assert (tmp_path / "res" / "lms-import.csv").read_bytes().startswith(b"\xef\xbb\xbf")
+    feedback = (tmp_path / "res" / "feedback" / "012301011012.md").read_text(encoding="utf-8")
+    assert "e-1" not in feedback and "| -0 |" not in feedback
+
+
+def test_every_drawn_variant_passes_every_check():
+    """500 students: each key's checks pass (no cam below its own smallest base radius,
+    no undercut, no pointed tooth) — what assign writes into the keys."""
+    from crankbook import params
+    from crankbook.assignment.key import key_results
+    from crankbook.assignment.variants import draw_class
+    spec, base, preset = params.load_preset("course-design")
+    drawn = draw_class(ASSIGNMENT, spec, base, [f"x{i:03d}" for i in range(500)], 2026)
+    checks = ASSIGNMENT.constraints["checks"]
+    for sid, values in drawn.items():
+        key = key_results(ASSIGNMENT, spec, preset, params.validate(spec, dict(values)))
+        for check in checks:
+            assert np.all(np.asarray(key.results[check]) == 1), (sid, check)
+        assert key.results["min_transmission_angle"] >= 45.0
+
+
+def test_the_student_workbook_gives_the_gear_data(pack):
+    book = openpyxl.load_workbook(pack / "students" / "s01.xlsx")
+    assert {"p_gear_teeth", "p_gear_shift", "p_gear_module", "p_gear_pressure_angle"} <= \
+        set(book.defined_names)
+    sheet, ref = next(iter(book.defined_names["a_mesh_contact_ratio"].destinations))
+    labels = [book[sheet].cell(row=r, column=1).value for r in range(6, 8)]
+    assert labels == ["啮合 1（齿轮 1–2）", "啮合 2（齿轮 2–3）"]
+    assert "R07" not in ASSIGNMENT.statement_zh and "R07" not in ASSIGNMENT.statement_en
+    assert "|α| ≤ [α]" in ASSIGNMENT.statement_zh
+
+
+def test_a_near_copy_is_found_and_the_source_is_not_flagged(pack, tmp_path):
+    """s02 hands in s01's answers with a few cells changed: they fit s01's parameters,
+    not s02's own; s01 did their own work and is not flagged."""
+    subs = tmp_path / "subs"
+    source = key_answers(pack, "s01")
+    copied = {k: (list(v) if isinstance(v, list) else v) for k, v in source.items()}
+    for key in ("pos_slider_velocity", "pos_balancing_torque"):
+        copied[key][3] = copied[key][3] * 1.3 + 1
+    copied["crank_radius"] = source["crank_radius"] * 1.2
+    fill(pack / "students" / "s01.xlsx", subs / "s01.xlsx", source)
+    fill(pack / "students" / "s02.xlsx", subs / "s02.xlsx", copied)
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "res")
+    assert done.returncode == 0, done.stderr
+    rows, _ = read_gradebook(tmp_path / "res")
+    assert "copy-suspect" in rows["s02"]["flags"] and "s01" in rows["s02"]["notes"]
+    assert "copy-suspect" not in rows["s01"]["flags"]
+    assert "s01" not in (tmp_path / "res" / "feedback" / "s02.md").read_text(encoding="utf-8")
+    report = openpyxl.load_workbook(tmp_path / "res" / "integrity.xlsx").active
+    rows = [[c.value for c in row] for row in report.iter_rows(min_row=5)]
+    assert rows[0][0].startswith("s02") and rows[0][1].startswith("s01")
+    assert "%" in rows[0][3]                        # the evidence: how well they fit

@@ -248,24 +248,26 @@ def _audit_workbook(path):
 def _assign(args):
     from crankbook.assignment.assign import assign
 
+    from crankbook.assignment.results import words
+
     started = time.perf_counter()
     count = assign(args.preset, args.roster, args.seed, args.lang, args.output)
-    print(f"wrote {args.output}: {count} student workbooks, {count} answer keys, manifest.csv "
-          f"({time.perf_counter() - started:.1f} s)")
+    print(words(args.lang)["cli_assigned"].format(output=args.output, count=count,
+                                                  seconds=time.perf_counter() - started))
     return 0
 
 
 def _grade(args):
     from crankbook.assignment.grade import grade
 
+    from crankbook.assignment.results import words
+
     started = time.perf_counter()
     summary = grade(args.directory, args.submissions, args.output, feedback=args.feedback,
                     previous=args.previous, keep=args.keep,
                     missing_as_zero=args.missing_as_zero)
-    print(f"graded {summary['graded']} of {summary['roster']} students "
-          f"({summary['missing']} missing, {summary['unreadable']} unreadable, "
-          f"{summary['unmatched']} files matching nobody) → {summary['output']} "
-          f"({time.perf_counter() - started:.1f} s)")
+    print(words(summary["lang"])["cli_graded"].format(
+        seconds=time.perf_counter() - started, **summary))
     return 0
 
 

@@ -19,9 +19,11 @@ def safe(value):
 
 
 def csv_text(rows):
-    """The rows as CSV text (UTF-8 with the caller's encoding), every field made safe."""
+    """The rows as CSV text (UTF-8 with the caller's encoding), every field made safe;
+    text in double quotes (an id such as "0231" stays text where a reader honours
+    them), numbers bare."""
     buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
+    writer = csv.writer(buffer, lineterminator="\n", quoting=csv.QUOTE_NONNUMERIC)
     for row in rows:
         writer.writerow([safe(v) for v in row])
     return buffer.getvalue()

@@ -13,7 +13,7 @@ from xlsxwriter.utility import xl_col_to_name, xl_rowcol_to_cell
 
 from crankbook import units
 from crankbook.arithmetic import integer
-from crankbook.placeholders import Ref, Special, Sum
+from crankbook.placeholders import Special, Sum
 from crankbook.spec import GUARD
 
 ROW = "\x00"            # the 1-based row number of the cell

@@ -14,7 +14,7 @@ from crankbook import placeholders
 
 # Tolerance of the "crank angle at the maximum/minimum" cells: the first grid angle
 # where the series comes within this fraction of its peak |value| of its extreme.
-from crankbook.calc.cycle import EXTREME_TOLERANCE  # noqa: E402
+from crankbook.calc.cycle import EXTREME_TOLERANCE  # noqa: E402,F401  (re-exported)
 GUARD = "inputs_valid"            # every guarded formula is IF(q_inputs_valid=1, …, "")
 
 

@@ -4,12 +4,37 @@ The same table serves the evaluator (values in and out of SI), the formula compi
 (``{key|unit}`` conversions) and the grader (unit slips only within one dimension).
 """
 import math
+from functools import lru_cache
 
 from crankbook import resources
 
 
 def _table():
     return resources.read_toml("units.toml")["unit"]
+
+
+def normalised(text):
+    """A unit as typed, made comparable: NFKC (full-width letters), lower case, no
+    spaces, ·/./* as ·, ^2 and a trailing 2 as ²."""
+    import re
+    import unicodedata
+    text = unicodedata.normalize("NFKC", str(text)).strip().lower().replace(" ", "")
+    text = re.sub(r"[.*⋅•]", "·", text).replace("^2", "²").replace("^-1", "⁻¹")
+    text = re.sub(r"(?<=[a-z])2\b", "²", text)
+    return text
+
+
+@lru_cache(maxsize=512)
+def typed_unit(text):
+    """The unit a person means by ``text`` after a number ("mm", "m/s^2", "N.m",
+    "毫米"), or None."""
+    wanted = normalised(text)
+    if not wanted:
+        return None
+    for unit, spellings in resources.read_toml("units.toml").get("typed", {}).items():
+        if wanted in (normalised(s) for s in spellings) or wanted == normalised(unit):
+            return unit
+    return None
 
 
 def known(unit):

@@ -31,6 +31,8 @@ MACRO_TYPES = ("vbaProject", "macroEnabled", "activeX", "ms-office.vbaProject", 
 MACRO_MAGIC = (OLE_MAGIC, b"Attribute VB_Name")
 DECLARATION = re.compile(rb"<!\s*(DOCTYPE|ENTITY)", re.I)
 CELL = re.compile(r"([A-Z]{1,3})([0-9]{1,7})\Z")
+# the document properties an integrity check reads (who made the file, and when)
+CORE_PROPERTIES = ("creator", "lastModifiedBy", "created", "modified")
 
 
 class Unreadable(Exception):
@@ -188,6 +190,13 @@ class XlsxBook:
         if strings is not None:
             for si in strings.iter(f"{{{MAIN}}}si"):
                 self.shared.append("".join(t.text or "" for t in si.iter(f"{{{MAIN}}}t")))
+        self.core_properties = {}
+        core = self._xml("docProps/core.xml", required=False)
+        if core is not None:
+            for node in core:
+                name = node.tag.rsplit("}", 1)[-1]
+                if name in CORE_PROPERTIES and node.text:
+                    self.core_properties[name] = node.text.strip()[:200]
         self.custom_properties = {}
         custom = self._xml("docProps/custom.xml", required=False)
         if custom is not None:

@@ -100,7 +100,7 @@ def assign(preset, roster_path, seed, lang, outdir, progress=True):
             values = variants[row["student_id"]]
             table.append([row["student_id"], row["name"], *[row.get(f, "") for f in extra],
                           *[_manifest_value(values[k]) for k in keys], fingerprint(values, keys)])
-        (staging / MANIFEST).write_text(csv_text(table), encoding="utf-8", newline="")
+        (staging / MANIFEST).write_text(csv_text(table), encoding="utf-8-sig", newline="")
         (staging / RUBRIC).write_text(resources.read_text(templates.ASSIGNMENTS,
                                                           f"{assignment.key}.toml"),
                                       encoding="utf-8")

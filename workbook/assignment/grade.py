@@ -13,15 +13,16 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 
 from crankbook import params
 from crankbook.evaluate import axis_sizes
+from crankbook.assignment import integrity, rounds
 from crankbook.assignment import template as templates
 from crankbook.assignment.assign import MANIFEST, RUBRIC, SETTINGS
 from crankbook.assignment.key import answer_rows, expected, key_results
 from crankbook.assignment.results import FEEDBACK_MODES, write_results
-from crankbook.assignment.scoring import answer_number, pair_positions, score_item
+from crankbook.assignment.scoring import (answer_in, answer_number, pair_positions,
+                                          place_rows, score_item)
 from crankbook.assignment.submissions import discover, prepare, read, recalculate
 from crankbook.errors import AssignmentDirError, CrankbookError
 from crankbook.workspace import staged_directory
@@ -33,25 +34,26 @@ KEEP = ("latest", "best")
 class Grade:
     student_id: str
     name: str
+    extra: dict = field(default_factory=dict)     # the roster's other columns (班级, …)
     status: str = "missing"                 # graded, missing, unreadable
     items: dict = field(default_factory=dict)     # item key -> (points, [CellResult])
-    flags: list = field(default_factory=list)     # tokens: wrong-student, duplicate, …
-    notes: list = field(default_factory=list)     # (word, fields) explaining them
+    flags: list = field(default_factory=list)     # tokens: copy-suspect, positions, …
+    notes: list = field(default_factory=list)     # (word, fields, private) explaining them
     files: list = field(default_factory=list)
     problem: str = ""
-    kept: tuple | None = None                     # (earlier score, rule) when kept
+    round: int = 1                          # the round whose work this is
 
     @property
     def score(self):
-        if self.kept is not None:
-            return self.kept[0]
         return sum(points for points, _ in self.items.values())
 
-    def note(self, flag, word, **fields):
+    def note(self, flag, word, private=False, **fields):
+        """A flag token (None: none) and the words that explain it; ``private`` notes
+        name or hint at other students and reach the teacher only."""
         if flag and flag not in self.flags:
             self.flags.append(flag)
-        if (word, fields) not in self.notes:
-            self.notes.append((word, fields))
+        if not any(w == word and f == fields for w, f, _ in self.notes):
+            self.notes.append((word, fields, private))
 
 
 def _listed(names, shown=10):
@@ -68,7 +70,7 @@ def load_directory(directory):
     try:
         settings = json.loads((directory / SETTINGS).read_text(encoding="utf-8"))
         assignment = templates.load(settings["assignment"], directory / RUBRIC)
-        with open(directory / MANIFEST, newline="", encoding="utf-8") as handle:
+        with open(directory / MANIFEST, newline="", encoding="utf-8-sig") as handle:
             roster = list(csv.DictReader(handle))
     except (OSError, ValueError, KeyError) as error:
         raise AssignmentDirError(f"{directory}: its {SETTINGS}, {RUBRIC} or {MANIFEST} is "
@@ -99,41 +101,74 @@ def manifest_values(spec, row):
     return params.validate(spec, values)
 
 
-def grade_submission(sub, manifest_row, assignment, spec, preset, lang):
-    """(items, problems) of one readable submission."""
+def grade_submission(sub, manifest_row, assignment, spec, preset, lang, key=None):
+    """(items, problems) of one readable submission (``key``: the student's key
+    results, when already computed)."""
     values = manifest_values(spec, manifest_row)
-    key = key_results(assignment, spec, preset, values)
+    key = key or key_results(assignment, spec, preset, values)
     want = expected(assignment, spec, key)
     rubric = assignment.rubric
-    upstream = {}
+    # consequential credit follows the student's whole mechanism: when any upstream
+    # answer is off, every upstream answer they gave is used
+    given = {}
     for name in rubric.get("upstream", []):
-        answer = sub.answers.get(name, [None])
-        number = answer_number(answer[0]) if answer else None
         item = assignment.item.get(name)
-        if number is not None and item and not math.isclose(
-                number, float(want[name]["value"][0]), rel_tol=item.tolerance,
-                abs_tol=item.abs_floor):
-            upstream[name] = number
-    own = expected(assignment, spec, key, overrides=upstream) if upstream else None
+        answer = sub.answers.get(name, [None])
+        number = answer_in(answer[0], item.unit) if answer and item else None
+        if number is not None:
+            given[name] = number
+    off = any(not math.isclose(number, float(want[name]["value"][0]),
+                               rel_tol=assignment.item[name].tolerance,
+                               abs_tol=assignment.item[name].abs_floor)
+              for name, number in given.items())
+    own = expected(assignment, spec, key, overrides=given) if off else None
     labels = answer_rows(assignment, lang, key.results, spec)
     pairing, problems = None, []
     if assignment.positions is not None:
         positions = assignment.positions
-        key_angles = want[positions.angle_item]["value"]
-        pairing, problems = pair_positions(sub.answers.get(positions.angle_item, []), key_angles,
-                                           labels["positions"], positions.match_tolerance)
+        angle_item = positions.angle_item
+        own_angles = own[angle_item]["value"] if own is not None else None
+        pairing = pair_positions(sub.answers.get(angle_item, []), want[angle_item]["value"],
+                                 labels["positions"], positions.match_tolerance, own_angles,
+                                 sub.row_labels.get(angle_item))
+        problems = pairing.problems
     items = {}
     for sheet in assignment.sheets:
         row_labels = labels.get(sheet.rows) if sheet.rows != "scalar" else None
+        rows_of_sheet = pairing.rows if pairing is not None else None
+        if sheet.rows == "positions" and pairing is not None:
+            rows_of_sheet = _sheet_pairing(sub, sheet, assignment, pairing, row_labels)
         for name in sheet.items:
             item = assignment.item[name]
-            consequential = own[name]["value"] if own is not None and item.consequential \
-                else None
-            items[name] = score_item(item, rubric, sub.answers.get(name, []), want[name],
+            consequential = [own[name]["value"], *own[name]["alternatives"]] \
+                if own is not None and item.consequential else []
+            answers = sub.answers.get(name, [])
+            if sheet.rows not in ("scalar", "positions") and name in sub.row_labels:
+                rows = place_rows(sub.row_labels[name], row_labels)
+                answers = [answers[r] if r is not None and r < len(answers) else None
+                           for r in rows]
+            items[name] = score_item(item, rubric, answers, want[name],
                                      [str(x) for x in row_labels] if row_labels else None,
-                                     pairing if sheet.rows == "positions" else None,
-                                     consequential)
+                                     rows_of_sheet if sheet.rows == "positions" else None,
+                                     consequential,
+                                     pairing.angles if name == getattr(
+                                         assignment.positions, "angle_item", None) else None)
     return items, problems
+
+
+def _sheet_pairing(sub, sheet, assignment, pairing, labels):
+    """The key position of each row of one position table.  The crank angles are on one
+    table; another table follows the same pairing when its rows carry the same labels,
+    else (the student inserted a row in one table only) its rows are placed by label."""
+    angle_item = assignment.positions.angle_item
+    if angle_item in sheet.items:
+        return pairing.rows
+    mine = sub.row_labels.get(sheet.items[0])
+    theirs = sub.row_labels.get(angle_item)
+    if mine is None or mine == theirs:
+        return pairing.rows
+    where = {str(label).strip(): i for i, label in enumerate(labels)}
+    return [where.get(str(label).strip()) if label is not None else None for label in mine]
 
 
 def choose(subs):
@@ -159,7 +194,7 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
     output = Path(output) if output else Path(directory) / "results"
     say = (lambda text: print(text, file=sys.stderr, flush=True)) if progress else \
         (lambda text: None)
-    earlier = _previous_scores(previous) if previous else {}
+    earlier = rounds.load(previous, assignment) if previous else {}
 
     shapes = answer_shapes(assignment, lang, spec)
     subs = prepare(discover(root), root)
@@ -175,7 +210,12 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
 
     by_id = {row["student_id"]: row for row in roster}
     _match(subs, by_id)
-    grades = {sid: Grade(student_id=sid, name=row["name"]) for sid, row in by_id.items()}
+    extra = [f for f in (roster[0] if roster else {}) if f not in ("student_id", "name",
+                                                                     "fingerprint")
+             and not f.startswith("p_")]
+    grades = {sid: Grade(student_id=sid, name=row["name"],
+                         extra={f: row.get(f, "") for f in extra}) for sid, row in by_id.items()}
+    keys = _Keys(assignment, spec, preset, by_id)
     mine = {}
     for sub in subs:
         if sub.student_id in grades:
@@ -186,31 +226,79 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
         g.files = [s.relative for s in files]
         sub = chosen[sid] = choose(files)
         if len(files) > 1:
-            g.note("multiple-submissions", "multiple", count=len(files), chosen=sub.relative,
-                   others=_listed([s.relative for s in files if s is not sub]))
+            g.note("multiple-submissions", "multiple", private=True, count=len(files),
+                   chosen=sub.relative, others=_listed([s.relative for s in files
+                                                        if s is not sub]))
         if sub.problem:
             g.status, g.problem = "unreadable", sub.problem
             continue
         try:
-            g.items, problems = grade_submission(sub, by_id[sid], assignment, spec, preset, lang)
+            g.items, problems = grade_submission(sub, by_id[sid], assignment, spec, preset,
+                                                 lang, keys.results(sid))
         except Exception as error:          # one student's file must not stop the class
             g.status, g.problem = "unreadable", f"could not be graded ({type(error).__name__})"
             continue
         g.status = "graded"
         for word, fields in problems:
             g.note("positions", word, **fields)
+        edited = _rows_edited(sub, answer_shapes(assignment, lang, spec,
+                                                 manifest_values(spec, by_id[sid])))
+        if edited:
+            g.note("rows-edited", "rows_edited", count=edited)
         _flag(g, sub, by_id, spec)
-    _flag_duplicates(grades, chosen)
-    for sid, g in grades.items():
-        _keep(g, earlier.get(sid), keep)
+    graded = {sid: sub for sid, sub in chosen.items() if grades[sid].status == "graded"}
+    suspicions = integrity.find(grades, graded, {sid: integrity.numeric_answers(sub, assignment)
+                                                 for sid, sub in graded.items()},
+                                keys.all_expected(), assignment)
+    for suspicion in suspicions:
+        g = grades[suspicion.who]
+        for kind in suspicion.kinds:
+            if kind == "wrong_student_file":
+                g.note("wrong-student", "wrong_student", private=True, other=suspicion.whom)
+            g.note("copy-suspect", f"suspect_{kind}", private=True, other=suspicion.whom or "")
+    for sid in grades:
+        grades[sid] = rounds.keep(grades[sid], earlier.get(sid), keep)
     unmatched = [s for s in subs if s.student_id not in grades]
     with staged_directory(output, replace=True) as staging:
         write_results(staging, assignment, spec, lang, list(grades.values()), unmatched,
-                      feedback=feedback, missing_as_zero=missing_as_zero)
+                      feedback=feedback, missing_as_zero=missing_as_zero,
+                      suspicions=suspicions)
     return {"graded": sum(g.status == "graded" for g in grades.values()),
             "missing": sum(g.status == "missing" for g in grades.values()),
             "unreadable": sum(g.status == "unreadable" for g in grades.values()),
-            "roster": len(grades), "unmatched": len(unmatched), "output": str(output)}
+            "roster": len(grades), "unmatched": len(unmatched), "suspicions": len(suspicions),
+            "output": str(output), "lang": lang}
+
+
+def _rows_edited(sub, shapes):
+    """Rows the student added to or removed from the answer tables (the largest change
+    of any one table: its columns move together)."""
+    return max((abs(len(values) - shapes[key]) for key, values in sub.answers.items()
+                if key in shapes and shapes[key] > 1), default=0)
+
+
+class _Keys:
+    """Each roster student's key, computed once: for their own grade and for holding
+    every file against every key (the integrity check)."""
+
+    def __init__(self, assignment, spec, preset, by_id):
+        self.assignment, self.spec, self.preset, self.by_id = assignment, spec, preset, by_id
+        self._results, self._expected = {}, {}
+
+    def results(self, sid):
+        if sid not in self._results:
+            values = manifest_values(self.spec, self.by_id[sid])
+            self._results[sid] = key_results(self.assignment, self.spec, self.preset, values)
+        return self._results[sid]
+
+    def all_expected(self):
+        for sid in self.by_id:
+            if sid not in self._expected:
+                try:
+                    self._expected[sid] = expected(self.assignment, self.spec, self.results(sid))
+                except CrankbookError:
+                    continue
+        return self._expected
 
 
 def _match(subs, by_id):
@@ -227,8 +315,6 @@ def _match(subs, by_id):
 
 def _flag(g, sub, by_id, spec):
     assigned = by_id[g.student_id]
-    if sub.inside_id and sub.inside_id != g.student_id and sub.inside_id in by_id:
-        g.note("wrong-student", "wrong_student", other=sub.inside_id)
     changed = []
     for parameter in spec.scalar_parameters():
         if parameter.key not in sub.parameters:
@@ -248,47 +334,7 @@ def _flag(g, sub, by_id, spec):
                     abs(answer_number(sub.parameters[p.key]) - float(row[f"p_{p.key}"])) <=
                     1e-9 * max(1.0, abs(float(row[f"p_{p.key}"])))
                     for p in spec.scalar_parameters() if p.key in sub.parameters):
-                g.note("wrong-student", "parameters_of", other=sid)
+                g.note("wrong-student", "parameters_of", private=True, other=sid)
                 break
     if all(c.reason == "no_answer" for _, cells in g.items.values() for c in cells):
         g.note("blank", "blank")
-
-
-def _flag_duplicates(grades, chosen):
-    seen = {}
-    for sid, sub in sorted(chosen.items()):
-        if sub.problem:
-            continue
-        values = [v for key in sorted(sub.answers) for v in sub.answers[key]]
-        if all(v in (None, "") for v in values):
-            continue
-        for what, mark in (("duplicate_file", sub.digest),
-                           ("duplicate_answers", json.dumps(values, default=str))):
-            other = seen.get((what, mark))
-            if other and other != sid:
-                for a, b in ((sid, other), (other, sid)):
-                    grades[a].note("duplicate", "duplicate", what=what, other=b)
-            seen.setdefault((what, mark), sid)
-
-
-def _previous_scores(previous):
-    """student_id -> score of an earlier round's gradebook (graded students only)."""
-    path = Path(previous) / "gradebook.csv"
-    if not path.is_file():
-        raise CrankbookError(f"--previous {previous}: has no gradebook.csv of an earlier round")
-    with open(path, newline="", encoding="utf-8-sig") as handle:
-        return {row["student_id"]: float(row["score"]) for row in csv.DictReader(handle)
-                if row.get("status") == "graded" and row.get("score") not in (None, "")}
-
-
-def _keep(g, earlier, keep):
-    """A resubmission round: keep the earlier score where the rule says so."""
-    if earlier is None:
-        return
-    if g.status != "graded":
-        g.kept = (earlier, "kept_no_new")
-        g.status = "graded"
-    elif keep == "best" and earlier > g.score:
-        g.kept = (earlier, "kept_best")
-    if g.kept is not None:
-        g.note(None, "kept_previous", score=f"{earlier:g}", rule=g.kept[1])

@@ -44,7 +44,8 @@ def answer_rows(assignment, lang, results, spec=None):
         for sheet in assignment.sheets:
             if sheet.rows in spec.axis:            # one row per gear, mesh, …
                 count = len(np.atleast_1d(results[sheet.items[0]]))
-                rows[sheet.rows] = [spec.axis[sheet.rows].label(lang, i + 1)
+                rows[sheet.rows] = [assignment.row_label(sheet.rows, lang, i + 1, count)
+                                    or spec.axis[sheet.rows].label(lang, i + 1)
                                     for i in range(count)]
     return rows
 

@@ -1,15 +1,26 @@
 """Grading results in the class's language: gradebook, LMS import, per-student
-feedback and the class report.
+feedback, the teacher's integrity report and the class report.
 
-* ``gradebook.csv`` (UTF-8 with BOM, so Excel shows Chinese): student_id, name,
-  status, score, max_score, flags, one column of points per item (headed by the
-  item's name in words), notes.
-* ``lms-import.csv``: identifier, grade, feedback; a missing student's grade is
-  blank (an LMS records no submission, not a zero) unless ``missing_as_zero``.
-* ``feedback/<id>.md``: ``full`` (every value with the expected one), ``hints``
-  (which items and cells are wrong and why, no expected values — for a
-  resubmission round) or ``score-only``.
-* ``class-report.xlsx``: per item, the distribution of totals, the students.
+Teacher side (may name students and flags):
+
+* ``gradebook.csv`` (UTF-8 with BOM, text quoted): student_id, name, the roster's
+  other columns (班级, …), status (a token: graded, missing, unreadable),
+  status_text, score, max_score, flags (tokens), flags_text, one column of points
+  per item (headed by the item's name in words and its ``a_`` key), notes.
+* ``gradebook.xlsx``: the same table as Excel opens it, ids stored as text.
+* ``integrity.xlsx``: one row per suspected pair (who, whom, what, evidence,
+  suggested action), then the other flags.
+* ``grades.json``: every cell of every student, for the next round's ``--previous``.
+* ``class-report.xlsx``: per item, per class, the distribution of totals, the students.
+
+Student side (never a flag, a suspicion or another student's id):
+
+* ``lms-import.csv`` (identifier, grade, feedback): the feedback self-contained text;
+  a missing student's grade blank (an LMS records no submission, not a zero) unless
+  ``missing_as_zero``.
+* ``feedback/<id>.md``: ``full`` (every value with the expected one, rounded to the
+  item's precision), ``hints`` (which cells are wrong and why, no expected values)
+  or ``score-only``.
 
 Every CSV field is made safe for spreadsheets (crankbook.csv_safety).
 """
@@ -19,6 +30,7 @@ from pathlib import Path
 import xlsxwriter
 
 from crankbook import resources
+from crankbook.assignment import rounds
 from crankbook.csv_safety import csv_text
 from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.layout import unit_text
@@ -26,83 +38,187 @@ from crankbook.writer.print_setup import landscape_page
 from crankbook.writer.styles import Styles
 
 FEEDBACK_MODES = ("full", "hints", "score-only")
+WORKBOOK_OPTIONS = {"strings_to_formulas": False, "strings_to_numbers": False,
+                    "strings_to_urls": False}
 
 
 def words(lang):
     return resources.read_toml("words", "grading.toml")[lang]
 
 
+def reason_text(problem, lang):
+    """Why a file is unreadable, in the class's language (templates/words/grading.toml
+    [[reason]]); the reader's own words where no pattern matches."""
+    import re
+    for entry in resources.read_toml("words", "grading.toml").get("reason", []):
+        match = re.search(entry["pattern"], problem or "")
+        if match and lang in entry:
+            return entry[lang].format(None, *match.groups())
+    return problem
+
+
 def say(w, word, **fields):
     text = w.get(word, word)
-    if "rule" in fields:
-        fields = dict(fields, rule=w.get(fields["rule"], fields["rule"]))
-    if "what" in fields:
-        fields = dict(fields, what=w.get(fields["what"], fields["what"]))
+    for name in ("rule", "what"):
+        if name in fields:
+            fields = dict(fields, **{name: w.get(fields[name], fields[name])})
     return text.format(**fields)
 
 
-def _fmt(x):
-    if x is None or x == "":
+def shown(value, item=None):
+    """A number as a person reads it: rounded to the item's precision (a digit finer
+    than its absolute floor), 0 as 0, no float noise."""
+    if value is None or value == "":
         return "—"
-    if isinstance(x, float):
-        return "—" if math.isnan(x) else f"{x:.6g}"
-    return str(x).replace("|", "\\|").replace("\n", " ")[:40]
+    if not isinstance(value, (int, float)):
+        return str(value).replace("|", "\\|").replace("\n", " ")[:40]
+    if not math.isfinite(value):
+        return "—"
+    floor = getattr(item, "abs_floor", 0.0) or 0.0
+    decimals = max(0, math.ceil(-math.log10(floor)) + 1) if floor > 0 else 6
+    text = f"{value:.{decimals}f}"
+    if "." in text:
+        text = text.rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
 
 
 def _points(x):
     return f"{x:.2f}".rstrip("0").rstrip(".")
 
 
+def student_notes(g):
+    return [(word, fields) for word, fields, private in g.notes if not private]
+
+
 def write_results(output, assignment, spec, lang, grades, unmatched, feedback="full",
-                  missing_as_zero=False):
+                  missing_as_zero=False, suspicions=()):
     output = Path(output)
     w = words(lang)
-    items = assignment.items
-    # fixed column names (a second round and an LMS read them); the items by name in
-    # the class's language, the notes in it too
-    header = ["student_id", "name", "status", "score", "max_score", "flags",
-              *[f"{i.label(lang)} (a_{i.key})" for i in items], "notes"]
-    rows = [header]
-    for g in grades:
-        notes = [say(w, word, **fields) for word, fields in g.notes]
-        if g.problem:
-            notes.append(say(w, "status_unreadable", reason=g.problem))
-        graded = g.status == "graded"
-        rows.append([g.student_id, g.name, g.status,
-                     round(g.score, 2) if graded or missing_as_zero else "",
-                     assignment.max_score, ";".join(g.flags),
-                     *[round(g.items[i.key][0], 2) if i.key in g.items else "" for i in items],
-                     "; ".join(notes)])
-    for sub in unmatched:
-        note = say(w, "unmatched", file=sub.relative)
-        if sub.inside_id:
-            note += say(w, "unmatched_inside", inside=sub.inside_id)
-        if sub.problem:
-            note += "; " + say(w, "status_unreadable", reason=sub.problem)
-        rows.append(["", "", "unmatched", "", assignment.max_score, "", *["" for _ in items], note])
-    (output / "gradebook.csv").write_text(csv_text(rows), encoding="utf-8-sig", newline="")
+    table = gradebook_rows(assignment, lang, grades, unmatched, missing_as_zero)
+    (output / "gradebook.csv").write_text(csv_text(table), encoding="utf-8-sig", newline="")
+    write_gradebook_xlsx(output / "gradebook.xlsx", table, w)
 
     lms = [["identifier", "grade", "feedback"]]
     for g in grades:
-        if g.status == "graded":
-            text = say(w, "lms_graded", score=_points(g.score),
-                       max_score=_points(assignment.max_score))
-            grade = round(g.score, 2)
-        elif g.status == "missing":
-            text, grade = say(w, "lms_missing"), 0 if missing_as_zero else ""
-        else:
-            text, grade = say(w, "lms_unreadable", reason=g.problem), 0 if missing_as_zero else ""
-        if g.flags:
-            text += " " + w["separator"].join(say(w, word, **fields)
-                                              for word, fields in g.notes) + w["stop"]
-        lms.append([g.student_id, grade, text + " " + say(w, "lms_see", student_id=g.student_id)])
-    (output / "lms-import.csv").write_text(csv_text(lms), encoding="utf-8", newline="")
+        grade = round(g.score, 2) if g.status == "graded" else \
+            (0 if missing_as_zero else "")
+        lms.append([g.student_id, grade, lms_text(g, assignment, lang, feedback)])
+    (output / "lms-import.csv").write_text(csv_text(lms), encoding="utf-8-sig", newline="")
 
     (output / "feedback").mkdir()
     for g in grades:
         (output / "feedback" / f"{g.student_id}.md").write_text(
             feedback_text(g, assignment, lang, feedback), encoding="utf-8")
+    write_integrity_report(output / "integrity.xlsx", lang, grades, suspicions)
+    rounds.save(output / rounds.FILE, grades, assignment)
     write_class_report(output / "class-report.xlsx", assignment, lang, grades)
+
+
+def gradebook_rows(assignment, lang, grades, unmatched, missing_as_zero):
+    w = words(lang)
+    items = assignment.items
+    extra = list(grades[0].extra) if grades else []
+    # fixed machine names (a second round and scripts read them), then words
+    header = ["student_id", "name", *extra, "status", "status_text", "score", "max_score",
+              "flags", "flags_text", *[f"{i.label(lang)} (a_{i.key})" for i in items], "notes"]
+    rows = [header]
+    for g in grades:
+        notes = [say(w, word, **fields) for word, fields, _ in g.notes]
+        if g.problem:
+            notes.append(say(w, "status_unreadable", reason=reason_text(g.problem, lang)))
+        graded = g.status == "graded"
+        rows.append([g.student_id, g.name, *[g.extra.get(f, "") for f in extra], g.status,
+                     w.get(f"state_{g.status}", g.status),
+                     round(g.score, 2) if graded else (0 if missing_as_zero else ""),
+                     assignment.max_score, ";".join(g.flags),
+                     w["separator"].join(w.get(f"flag_{f}", f) for f in g.flags),
+                     *[round(g.items[i.key][0], 2) if i.key in g.items else "" for i in items],
+                     w["separator"].join(notes)])
+    for sub in unmatched:
+        note = say(w, "unmatched", file=sub.relative)
+        if sub.inside_id:
+            note += say(w, "unmatched_inside", inside=sub.inside_id)
+        if sub.problem:
+            note += w["separator"] + say(w, "status_unreadable",
+                                         reason=reason_text(sub.problem, lang))
+        rows.append(["", "", *["" for _ in extra], "unmatched", w["state_unmatched"], "",
+                     assignment.max_score, "", "", *["" for _ in items], note])
+    return rows
+
+
+def write_gradebook_xlsx(path, table, w):
+    """The gradebook as Excel opens it: ids and names as text (leading zeros and 12-digit
+    学号 intact), points as numbers."""
+    book = xlsxwriter.Workbook(str(path), WORKBOOK_OPTIONS)
+    book.set_properties({"title": w["gradebook_title"], "author": "crankbook",
+                         "created": FIXED_TIME})
+    styles = Styles(book)
+    ws = book.add_worksheet(w["gradebook_sheet"])
+    header = table[0]
+    text_columns = {i for i, name in enumerate(header)
+                    if name not in ("score", "max_score") and "(a_" not in name}
+    for col, name in enumerate(header):
+        ws.write_string(0, col, name, styles.header)
+        width = max(len(str(row[col])) if col < len(row) else 0 for row in table)
+        ws.set_column(col, col, min(max(10, width + 2), 60))
+    for r, row in enumerate(table[1:], start=1):
+        for col, value in enumerate(row):
+            if value == "" or value is None:
+                continue
+            if col in text_columns or not isinstance(value, (int, float)):
+                ws.write_string(r, col, str(value))
+            else:
+                ws.write_number(r, col, float(value))
+    ws.freeze_panes(1, 2)
+    ws.autofilter(0, 0, len(table) - 1, len(header) - 1)
+    landscape_page(ws)
+    book.close()
+
+
+def _item_summary(g, assignment, lang, mode):
+    """Item lines a student reads: every item's points, and for the wrong cells what is
+    wrong (``hints``) or the expected value too (``full``)."""
+    w = words(lang)
+    lines = []
+    for item in assignment.items:
+        if item.key not in g.items:
+            continue
+        points, cells = g.items[item.key]
+        head = say(w, "item_heading", label=item.label(lang), unit=unit_text(item.unit),
+                   points=_points(points), max_points=_points(item.points))
+        wrong = [c for c in cells if c.fraction < 1]
+        if mode == "score-only" or not wrong:
+            lines.append((head, []))
+            continue
+        details = []
+        for cell in wrong:
+            label = cell.label or w["scalar_row"]
+            reason = say(w, cell.reason, **cell.detail)
+            if mode == "full":
+                details.append(say(w, "cell_full", label=label, value=shown(cell.value, item),
+                                   expected=shown(cell.expected, item), reason=reason))
+            else:
+                details.append(say(w, "cell_hint", label=label, value=shown(cell.value, item),
+                                   reason=reason))
+        lines.append((head, details))
+    return lines
+
+
+def lms_text(g, assignment, lang, mode):
+    """The LMS's feedback field: self-contained text in the class's language (an LMS
+    has no feedback files), nothing about other students."""
+    w = words(lang)
+    if g.status == "missing":
+        return say(w, "lms_missing")
+    if g.status != "graded":
+        return say(w, "lms_unreadable", reason=reason_text(g.problem, lang))
+    parts = [say(w, "lms_graded", score=_points(g.score), max_score=_points(assignment.max_score))]
+    parts += [say(w, word, **fields) + w["stop"] for word, fields in student_notes(g)]
+    for head, details in _item_summary(g, assignment, lang, mode):
+        if details or mode == "score-only":
+            parts.append(head + (w["colon"] + w["separator"].join(details[:6]) +
+                                 (w["more"] if len(details) > 6 else "") if details else ""))
+    return " ".join(parts)[:4000]
 
 
 def feedback_text(g, assignment, lang, mode):
@@ -111,11 +227,13 @@ def feedback_text(g, assignment, lang, mode):
              ""]
     if g.status != "graded":
         status = say(w, "status_missing") if g.status == "missing" else \
-            say(w, "status_unreadable", reason=g.problem)
+            say(w, "status_unreadable", reason=reason_text(g.problem, lang))
         return "\n".join(lines + [f"**{status}**", ""]) + "\n"
     lines += [say(w, "score", score=_points(g.score), max_score=_points(assignment.max_score)), ""]
-    if g.notes:
-        lines += [w["flags"], ""] + [f"- {say(w, word, **fields)}" for word, fields in g.notes]
+    notes = student_notes(g)
+    if notes:
+        lines += [w["notes_heading"], ""] + [f"- {say(w, word, **fields)}"
+                                             for word, fields in notes]
         lines.append("")
     for item in assignment.items:
         if item.key not in g.items:
@@ -125,22 +243,23 @@ def feedback_text(g, assignment, lang, mode):
                   ""]
         if mode == "score-only":
             continue
-        shown = cells if mode == "full" else [c for c in cells if c.fraction < 1]
-        if not shown:
+        listed = cells if mode == "full" else [c for c in cells if c.fraction < 1]
+        if not listed:
             lines += [w["all_right"], ""]
             continue
         if mode == "full":
             lines += [w["table_full"], "|---|---|---|---|---|"]
         else:
             lines += [w["table_hints"], "|---|---|---|---|"]
-        for cell in shown:
+        for cell in listed:
             label = cell.label or w["scalar_row"]
             reason = say(w, cell.reason, **cell.detail)
             if mode == "full":
-                lines.append(f"| {label} | {_fmt(cell.value)} | {_fmt(float(cell.expected))} | "
-                             f"{cell.fraction:.0%} | {reason} |")
+                lines.append(f"| {label} | {shown(cell.value, item)} | "
+                             f"{shown(cell.expected, item)} | {cell.fraction:.0%} | {reason} |")
             else:
-                lines.append(f"| {label} | {_fmt(cell.value)} | {cell.fraction:.0%} | {reason} |")
+                lines.append(f"| {label} | {shown(cell.value, item)} | {cell.fraction:.0%} | "
+                             f"{reason} |")
         lines.append("")
     return "\n".join(lines) + "\n"
 
@@ -150,11 +269,72 @@ def _width(texts, least=10, most=60):
     return max(least, min(most, max((display_width(str(t)) for t in texts), default=0) + 2))
 
 
+def write_integrity_report(path, lang, grades, suspicions):
+    """The teacher's integrity report: one row per suspected pair, then the flags that
+    concern one student only."""
+    w = words(lang)
+    book = xlsxwriter.Workbook(str(path), WORKBOOK_OPTIONS)
+    book.set_properties({"title": w["integrity_title"], "author": "crankbook",
+                         "created": FIXED_TIME})
+    styles = Styles(book)
+    ws = book.add_worksheet(w["integrity_sheet"])
+    ws.write(0, 0, w["integrity_title"], styles.title)
+    ws.write(1, 0, w["integrity_note"], styles.subtitle)
+    header = ["col_who", "col_whom", "col_what", "col_evidence", "col_action"]
+    for col, word in enumerate(header):
+        ws.write(3, col, w[word], styles.header)
+    names = {g.student_id: g.name for g in grades}
+    row = 4
+    rows = []
+    for s in suspicions:
+        rows.append([f"{s.who} {names.get(s.who, '')}".strip(),
+                     f"{s.whom} {names.get(s.whom, '')}".strip() if s.whom else "",
+                     w["separator"].join(w.get(f"suspect_kind_{k}", k) for k in s.kinds),
+                     _evidence(w, s),
+                     w["action_copier"] if s.source_known else w["action_unclear"]])
+    for g in grades:
+        for flag in g.flags:
+            if flag in ("copy-suspect", "wrong-student"):
+                continue
+            notes = [say(w, word, **fields) for word, fields, _ in g.notes]
+            rows.append([f"{g.student_id} {g.name}", "", w.get(f"flag_{flag}", flag),
+                         w["separator"].join(notes), w.get(f"action_{flag}", "")])
+    for values in rows:
+        for col, value in enumerate(values):
+            ws.write_string(row, col, value, styles.text)
+        row += 1
+    if not rows:
+        ws.write(row, 0, w["integrity_none"], styles.text)
+    widths = [18, 18, 22, 70, 40]
+    for col, width in enumerate(widths):
+        ws.set_column(col, col, width)
+    ws.freeze_panes(4, 1)
+    landscape_page(ws)
+    ws.repeat_rows(3)
+    book.close()
+
+
+def _evidence(w, s):
+    parts = []
+    e = s.evidence
+    if e.get("fit_other") is not None:
+        parts.append(say(w, "evidence_fit_other", share=f"{e['fit_other']:.0%}", whom=s.whom))
+    if e.get("fit_own") is not None:
+        parts.append(say(w, "evidence_fit_own", share=f"{e['fit_own']:.0%}"))
+    if e.get("fit_of_other") is not None:
+        parts.append(say(w, "evidence_fit_of_other", whom=s.whom,
+                         share=f"{e['fit_of_other']:.0%}"))
+    if e.get("earlier"):
+        parts.append(say(w, "evidence_earlier", who=e["earlier"]))
+    for sid, facts in e.get("files", {}).items():
+        parts.append(f"{sid}: " + ", ".join(f"{k} {v}" for k, v in facts.items()))
+    return w["separator"].join(parts)
+
+
 def write_class_report(path, assignment, lang, grades):
     w = words(lang)
-    graded = [g for g in grades if g.status == "graded" and g.kept is None]
-    book = xlsxwriter.Workbook(str(path), {"strings_to_formulas": False,
-                                           "strings_to_numbers": False, "strings_to_urls": False})
+    graded = [g for g in grades if g.status == "graded"]
+    book = xlsxwriter.Workbook(str(path), WORKBOOK_OPTIONS)
     book.set_properties({"title": w["report_title"].format(assignment=assignment.name(lang),
                                                            graded=len(graded), total=len(grades)),
                          "author": "crankbook", "created": FIXED_TIME})
@@ -218,9 +398,14 @@ def write_class_report(path, assignment, lang, grades):
     hist.set_legend({"none": True})
     dist.insert_chart(2, 5, hist)
 
+    _class_statistics(book, w, assignment, grades, styles)
+
     students = book.add_worksheet(w["report_students"])
-    notes = {g.student_id: "; ".join(say(w, word, **fields) for word, fields in g.notes)
-             + (("; " if g.notes else "") + g.problem if g.problem else "") for g in grades}
+    notes = {g.student_id: w["separator"].join(say(w, word, **fields)
+                                               for word, fields, _ in g.notes)
+             + ((w["separator"] if g.notes else "") + reason_text(g.problem, lang)
+                if g.problem else "")
+             for g in grades}
     for col, word in enumerate(["col_student_id", "col_name", "col_status", "col_score",
                                 "col_flags", "col_notes"]):
         students.write(0, col, w[word], styles.header)
@@ -231,13 +416,42 @@ def write_class_report(path, assignment, lang, grades):
     for row, g in enumerate(grades, start=1):
         students.write_string(row, 0, g.student_id)
         students.write_string(row, 1, g.name)
-        students.write_string(row, 2, {"graded": w["status_graded"], "missing": w["status_missing"]}
-                              .get(g.status, g.status))
+        students.write_string(row, 2, w.get(f"state_{g.status}", g.status))
         if g.status == "graded":
             students.write_number(row, 3, round(g.score, 2))
-        students.write_string(row, 4, ";".join(g.flags))
+        students.write_string(row, 4, w["separator"].join(w.get(f"flag_{f}", f)
+                                                         for f in g.flags))
         students.write_string(row, 5, notes[g.student_id])
     students.freeze_panes(1, 2)
     for sheet in book.worksheets():
         landscape_page(sheet)
     book.close()
+
+
+def _class_statistics(book, w, assignment, grades, styles):
+    """Per class of the roster's 班级/class column (the whole class when there is
+    none): students, graded, mean, median, lowest and highest total."""
+    column = next((c for c in (grades[0].extra if grades else {})
+                   if c.strip().lower() in ("班级", "class", "section", "group", "组号", "班")),
+                  None)
+    classes = {}
+    for g in grades:
+        classes.setdefault(g.extra.get(column, "") if column else "", []).append(g)
+    ws = book.add_worksheet(w["report_classes"])
+    ws.write(0, 0, w["report_classes_title"], styles.title)
+    for col, word in enumerate(["col_class", "col_students", "col_graded", "col_mean",
+                                "col_median", "col_lowest", "col_highest"]):
+        ws.write(2, col, w[word], styles.header)
+    ws.set_column(0, 0, _width(classes, 14))
+    ws.set_column(1, 6, 12)
+    for row, (name, members) in enumerate(sorted(classes.items()), start=3):
+        totals = sorted(g.score for g in members if g.status == "graded")
+        ws.write_string(row, 0, name or w["all_students"])
+        ws.write_number(row, 1, len(members))
+        ws.write_number(row, 2, len(totals))
+        if totals:
+            middle = len(totals) // 2
+            median = totals[middle] if len(totals) % 2 else (totals[middle - 1] + totals[middle]) / 2
+            for col, value in enumerate((sum(totals) / len(totals), median, totals[0],
+                                         totals[-1]), start=3):
+                ws.write_number(row, col, round(value, 2), styles.number("-", "0.00"))

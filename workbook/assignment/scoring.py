@@ -4,10 +4,12 @@ Per cell: full credit within the item's tolerance (relative ``tolerance``, absol
 ``abs_floor``) of the key or an accepted alternative; partial credit for
 
 * a unit slip — the value in another unit of the item's own dimension (mm ↔ m,
-  ° ↔ rad, rpm ↔ rad/s, N·m ↔ kN·m, …), judged on the value with the floor not
-  scaled, and only where the expected value is clearly not zero;
-* a sign slip — only where the expected value is clearly not zero;
-* a consequential error — right for the student's own wrong r and l;
+  ° ↔ rad, rpm ↔ rad/s, N·m ↔ N·mm ↔ kN·m, kg·m² ↔ kg·mm², …), converted back
+  and judged in the item's unit with its tolerance and floor; never for an answer
+  that is zero, and only where the expected value is clearly not zero;
+* a sign slip — likewise never for zero;
+* a consequential error — right for the student's own mechanism (all their
+  upstream answers, e.g. a wrong r and l), or one of its alternatives;
 
 as far as the item's ``slips`` allow.  Per-position answers are paired with the
 key's positions through the student's own crank angles, so a table in any order
@@ -15,6 +17,7 @@ scores the same; a position given twice or missing is reported.
 """
 import math
 import re
+import unicodedata
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +26,8 @@ from crankbook import units
 
 PLAIN = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 COMMA_DECIMAL = re.compile(r"[+-]?[0-9]+,[0-9]+\Z")
+WITH_UNIT = re.compile(r"([+-]?(?:[0-9]+(?:[.,][0-9]*)?|[.,][0-9]+)(?:[eE][+-]?[0-9]+)?)"
+                       r"\s*(\S.{0,15})\Z")
 CLEARLY_NOT_ZERO = 3.0            # × the absolute floor
 
 
@@ -36,19 +41,39 @@ class CellResult:
     detail: dict
 
 
-def answer_number(value):
-    """A typed answer as a float: a number, or plain ASCII decimal text (a decimal
-    comma is accepted); None for anything else (full-width digits, 1_000, words)."""
-    if isinstance(value, bool) or value is None:
-        return None
-    if isinstance(value, (int, float)):
-        return float(value) if math.isfinite(value) else None
-    text = str(value).strip()
+def _plain_number(text):
     if PLAIN.match(text):
         return float(text)
     if COMMA_DECIMAL.match(text):
         return float(text.replace(",", "."))
     return None
+
+
+def read_answer(value):
+    """(number, unit) of a typed answer: a number, or text as students type it — ASCII
+    or full-width digits (Chinese input methods), a decimal comma, and a unit after
+    the number ("103.4mm", "4.019 m/s"); unit None when none was typed.  (None, None)
+    for anything else (words, 1_000, a unit nobody uses)."""
+    if isinstance(value, bool) or value is None:
+        return None, None
+    if isinstance(value, (int, float)):
+        return (float(value), None) if math.isfinite(value) else (None, None)
+    text = unicodedata.normalize("NFKC", str(value)).strip().replace("−", "-")
+    number = _plain_number(text)
+    if number is not None:
+        return number, None
+    match = WITH_UNIT.match(text)
+    if match:
+        number, unit = _plain_number(match.group(1)), units.typed_unit(match.group(2))
+        if number is not None and unit is not None:
+            return number, unit
+    return None, None
+
+
+def answer_number(value):
+    """A typed answer as a float (see :func:`read_answer`; a unit typed after it is
+    ignored); None for anything that is not a number."""
+    return read_answer(value)[0]
 
 
 def _within(value, expected, tolerance, floor):
@@ -68,73 +93,164 @@ def unit_slips(unit):
     return out
 
 
-def score_cell(label, value, expected, item, rubric, alternatives=(), consequential=None):
-    number = answer_number(value)
+def _right(number, targets, item):
+    return any(np.isfinite(t) and _within(number, t, item.tolerance, item.abs_floor)
+               for t in targets)
+
+
+def score_cell(label, value, expected, item, rubric, alternatives=(), consequential=()):
+    """One answer cell against the key.  Slips are judged in the item's own unit: the
+    answer is converted back (value / factor) and must meet the item's tolerance and
+    floor; an answer that is zero (within the floor) never earns slip credit — it is
+    right only where the key itself is zero.  ``consequential``: the values (the
+    student's own mechanism's, and its alternatives) that earn consequential credit."""
+    number, typed = read_answer(value)
     if number is None:
         reason = "no_answer" if value is None or value == "" else "not_a_number"
         return CellResult(label, value, expected, 0.0, reason, {})
     if not np.isfinite(expected):
         return CellResult(label, value, expected, 0.0, "no_expected", {})
     tol, floor = item.tolerance, item.abs_floor
+    fraction = rubric["unit_slip"]["fraction"]
+    if typed is not None and typed != item.unit:
+        if not units.convertible(typed, item.unit):
+            return CellResult(label, value, expected, 0.0, "wrong_unit",
+                              {"unit": typed, "wanted": item.unit})
+        number = number * units.si_factor(typed) / units.si_factor(item.unit)
+        if "unit" in item.slips and abs(number) > floor and \
+                _right(number, (expected, *alternatives), item):
+            return CellResult(label, value, expected, fraction, "unit_slip", {"unit": typed})
+        return CellResult(label, value, expected, 0.0, "wrong", {})
     if _within(number, expected, tol, floor):
         return CellResult(label, value, expected, 1.0, "correct", {})
-    if any(np.isfinite(a) and _within(number, a, tol, floor) for a in alternatives):
+    if _right(number, alternatives, item):
         return CellResult(label, value, expected, 1.0, "alternative", {})
+    zero = abs(number) <= floor
     clearly = abs(expected) > CLEARLY_NOT_ZERO * floor
-    if "unit" in item.slips and clearly:
+    if "unit" in item.slips and clearly and not zero:
         for other, factor in unit_slips(item.unit):
-            if _within(number, expected * factor, tol, floor):
-                return CellResult(label, value, expected, rubric["unit_slip"]["fraction"],
-                                  "unit_slip", {"unit": other})
-    if "sign" in item.slips and clearly and _within(number, -expected, tol, floor):
+            if _within(number / factor, expected, tol, floor):
+                return CellResult(label, value, expected, fraction, "unit_slip", {"unit": other})
+    if "sign" in item.slips and clearly and not zero and _within(-number, expected, tol, floor):
         return CellResult(label, value, expected, rubric["sign_slip"]["fraction"],
                           "sign_slip", {})
-    if item.consequential and consequential is not None and np.isfinite(consequential) and \
-            _within(number, consequential, tol, floor):
+    if item.consequential and _right(number, consequential, item):
         return CellResult(label, value, expected, rubric["consequential"]["fraction"],
                           "consequential", {})
     return CellResult(label, value, expected, 0.0, "wrong", {})
 
 
-def pair_positions(angles, key_angles, labels, tolerance):
-    """Each answer row's key position: ([position index or None per row], problems).
+def answer_in(value, unit):
+    """A typed answer as a number in ``unit`` (a unit typed after it converted), or None."""
+    number, typed = read_answer(value)
+    if number is None or typed is None or typed == unit:
+        return number
+    if not units.convertible(typed, unit):
+        return None
+    return number * units.si_factor(typed) / units.si_factor(unit)
 
-    A row whose crank angle is within ``tolerance`` of a position names it; a row
-    without a usable angle takes the position of its own row (the statement's order)
-    when that is free.  Problems are (word, fields) for the feedback.
+
+@dataclass
+class Pairing:
+    """Which key position each answer row holds, and what the grader had to assume."""
+    rows: list                    # position index (or None) per answer row
+    problems: list                # (word, fields) for the feedback
+    angles: dict                  # row -> the crank angle the row means (a ′ row's φ + 360)
+
+
+def pair_positions(angles, key_angles, labels, tolerance, own_angles=None, row_labels=None):
+    """Each answer row's key position.
+
+    A row whose crank angle is within ``tolerance`` of a position — of the key's
+    mechanism, or of the student's own (``own_angles``: their r and l) — names it; a
+    second-revolution row (labelled A0′…) whose angle is typed as 0–360° is that
+    angle + 360°.  A row without a usable angle takes the position its label names
+    (``row_labels``: the labels beside the student's rows, moved with any row they
+    inserted), else that of its own row (the statement's order) when free.
     """
-    rows = len(labels)
+    rows = max(len(angles), len(row_labels or ()))
     chosen = [None] * rows
-    taken, problems = {}, []
+    taken, problems, meant = {}, [], {}
     numbers = [answer_number(a) for a in angles] + [None] * (rows - len(angles))
+    targets = [np.asarray(key_angles, float)]
+    if own_angles is not None:
+        targets.append(np.asarray(own_angles, float))
+    position_of_label = {str(label).strip(): i for i, label in enumerate(labels)}
     unplaced = []
+
+    def nearest(angle):
+        best = min(((float(np.min(np.abs(t - angle))), int(np.argmin(np.abs(t - angle))))
+                    for t in targets), default=(np.inf, None))
+        return best[1] if best[0] <= tolerance else None
+
     for i in range(rows):
         a = numbers[i]
-        distance = np.abs(np.asarray(key_angles, float) - a) if a is not None else None
-        if distance is not None and distance.min() <= tolerance:
-            position = int(np.argmin(distance))
-            if position in taken:
-                problems.append(("position_twice", {"label": labels[position],
-                                                    "first": taken[position] + 1,
-                                                    "second": i + 1}))
-                continue
-            chosen[i], taken[position] = position, i
-        else:
+        label = _row_label(i, row_labels, labels)
+        position = None
+        if a is not None and label and label.endswith("′") and a < 360:
+            # a second-revolution row typed 0–360°: that row's φ + 360°
+            position = nearest(a + 360.0)
+            if position is not None:
+                meant[i] = a + 360.0
+                problems.append(("second_revolution", {"label": label, "angle": f"{a:g}"}))
+        if position is None and a is not None:
+            position = nearest(a)
+        if position is None:
             unplaced.append(i)
+            continue
+        if position in taken:
+            problems.append(("position_twice", {"label": labels[position],
+                                                "first": taken[position] + 1,
+                                                "second": i + 1}))
+            continue
+        chosen[i], taken[position] = position, i
     for i in unplaced:
-        if i not in taken and i < len(key_angles):
-            chosen[i], taken[i] = i, i
+        label = str(row_labels[i]).strip() if row_labels and i < len(row_labels) and \
+            row_labels[i] is not None else None
+        by_label = position_of_label.get(label) if label else None
+        if row_labels is not None and by_label is None:
+            continue                     # a row the student added (a note): not an answer
+        position = by_label if by_label is not None else i
+        if position not in taken and position < len(key_angles):
+            chosen[i], taken[position] = position, i
             if numbers[i] is not None:
                 problems.append(("position_by_row", {"row": i + 1, "angle": f"{numbers[i]:g}",
-                                                     "label": labels[i]}))
+                                                     "label": labels[position]}))
     for position, label in enumerate(labels):
         if position not in taken:
             problems.append(("position_missing", {"label": label}))
-    return chosen, problems
+    return Pairing(chosen, problems, meant)
 
 
-def score_item(item, rubric, answers, expected, labels, pairing=None, consequential=None):
-    """(points, [CellResult]) of one item; ``pairing`` maps answer rows to key rows."""
+def _row_label(row, row_labels, labels):
+    """The label of an answer row: the one beside it in the student's file, else the
+    statement's label of that row."""
+    if row_labels is not None:
+        label = row_labels[row] if row < len(row_labels) else None
+    else:
+        label = labels[row] if row < len(labels) else None
+    return str(label).strip() if label is not None else None
+
+
+def place_rows(row_labels, expected_labels):
+    """Answer row of each expected row of a labelled table (cam angles, gears, …), found
+    by its label where the student's rows moved (an inserted note row), else by order."""
+    def key(label):
+        number = answer_number(label)
+        return f"{number:g}" if number is not None else str(label).strip()
+    where = {}
+    for row, label in enumerate(row_labels):
+        if label is not None and key(label) not in where:
+            where[key(label)] = row
+    return [where.get(key(label), i if i < len(row_labels) else None)
+            for i, label in enumerate(expected_labels)]
+
+
+def score_item(item, rubric, answers, expected, labels, pairing=None, consequential=(),
+               angles=None):
+    """(points, [CellResult]) of one item.  ``pairing``: the key position of each answer
+    row; ``consequential``: arrays of the values the student's own mechanism gives
+    (with its alternatives); ``angles``: row -> the value a row means (a ′ row's angle)."""
     want = expected["value"]
     alternatives = expected["alternatives"]
     cells = []
@@ -144,11 +260,10 @@ def score_item(item, rubric, answers, expected, labels, pairing=None, consequent
         given = {}
         for row, position in enumerate(pairing):
             if position is not None and row < len(answers):
-                given[position] = answers[row]
+                given[position] = (angles or {}).get(row, answers[row])
     for i in range(want.size):
         cells.append(score_cell(labels[i] if labels else "", given.get(i), float(want[i]), item,
                                 rubric, [float(a[i]) for a in alternatives if i < a.size],
-                                float(consequential[i]) if consequential is not None
-                                and i < consequential.size else None))
+                                [float(c[i]) for c in consequential if i < np.size(c)]))
     points = item.points * float(np.mean([c.fraction for c in cells])) if cells else 0.0
     return points, cells

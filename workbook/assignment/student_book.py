@@ -112,7 +112,37 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
             task.set_row(row, row_height(parameter.zh if display_width(parameter.zh) > display_width(
                 parameter.en) else parameter.en, TASK_WIDTHS[3]))
         define(f"p_{parameter.key}", name, row, 1)
+    row = _item_tables(task, name, assignment, spec, values, lang, styles, define, row + 2)
     task.activate()
+
+
+def _item_tables(task, name, assignment, spec, values, lang, styles, define, row):
+    """The per-item inputs the task uses (the gears' teeth and shifts, …): one table per
+    axis, one row per item, each column named p_<key> as in the full workbook."""
+    for axis in spec.axes:
+        inputs = [p for p in spec.item_parameters(axis.key)
+                  if assignment.task_groups is None or p.group in assignment.task_groups]
+        if not inputs:
+            continue
+        caption = assignment.axis_caption(axis.key, lang, values)
+        task.write(row, 0, caption or both(axis.zh, axis.en, lang), styles.group)
+        row += 1
+        task.write(row, 0, both(axis.label_zh, axis.label_en, lang), styles.header)
+        for col, parameter in enumerate(inputs, start=1):
+            task.write(row, col, f"{parameter.zh} / {parameter.en}" if lang == "zh"
+                       else f"{parameter.en} / {parameter.zh}", styles.header)
+        task.set_row(row, 32)
+        first = row + 1
+        count = len(values[inputs[0].key])
+        for i in range(count):
+            task.write(first + i, 0, assignment.row_label(axis.key, lang, i + 1, count)
+                       or axis.label(lang, i + 1), styles.key)
+            for col, parameter in enumerate(inputs, start=1):
+                task.write_number(first + i, col, float(values[parameter.key][i]))
+        for col, parameter in enumerate(inputs, start=1):
+            define(f"p_{parameter.key}", name, first, col, first + count - 1)
+        row = first + count + 1
+    return row
 
 
 def _given_sheet(book, given, lang, styles, define):

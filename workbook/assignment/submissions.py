@@ -24,6 +24,7 @@ from crankbook.xlsx_reader import MAX_FILE, Unreadable, XlsxBook
 SUFFIXES = (".xlsx", ".xlsm", ".xls", ".xltx", ".xltm")
 MAX_FILES = 20_000
 MAX_CELLS = 10_000                 # per answer name: far more than any task has
+EXTRA_ROWS = 40                    # rows a student may insert into a table (notes, …)
 RECALC_LIMIT = 60                  # seconds per file in LibreOffice
 
 
@@ -40,6 +41,8 @@ class Submission:
     problem: str | None = None     # why it is unreadable
     needs_recalc: bool = False
     digest: str = ""
+    row_labels: dict = field(default_factory=dict)   # answer key -> labels beside its rows
+    metadata: dict = field(default_factory=dict)     # creator, last saved by, created, …
 
 
 def shown_name(path, root):
@@ -80,8 +83,10 @@ def prepare(paths, root):
     return subs
 
 
-def _named_cells(book, prefix, shapes=None):
-    """name (without prefix) -> [(value, has formula)], every reference checked first."""
+def _named_cells(book, prefix, shapes=None, labels=None):
+    """name (without prefix) -> [(value, has formula)], every reference checked first.
+    A table's block may have grown by rows the student inserted (up to EXTRA_ROWS);
+    ``labels`` then gets the row labels beside it (column A of its rows)."""
     sheets = set(book.sheetnames)
     out = {}
     for name, text in book.defined_names.items():
@@ -97,7 +102,8 @@ def _named_cells(book, prefix, shapes=None):
         if shapes is None and cells > 1:
             continue                         # only single cells are read (parameters, id)
         limit = shapes.get(key, MAX_CELLS) if shapes is not None else 1
-        if cells > max(limit, 1) or cells > MAX_CELLS:
+        allowed = limit + EXTRA_ROWS if limit > 1 and found.cols == 1 else max(limit, 1)
+        if cells > allowed or cells > MAX_CELLS:
             raise Unreadable(f"name {name} covers {cells} cells; the task gives it "
                              f"{limit}")
         values = book.values(found.sheet, found.min_row, found.min_col, found.max_row,
@@ -105,6 +111,8 @@ def _named_cells(book, prefix, shapes=None):
         formulas = book.has_formulas(found.sheet, found.min_row, found.min_col, found.max_row,
                                      found.max_col)
         out[key] = list(zip(values, formulas))
+        if labels is not None and limit > 1 and found.min_col > 1:
+            labels[key] = book.values(found.sheet, found.min_row, 1, found.max_row, 1)
     return out
 
 
@@ -113,13 +121,16 @@ def read(sub, shapes, path=None):
     try:
         book = XlsxBook(path or sub.path)
         try:
-            answers = _named_cells(book, "a_", shapes)
+            labels = {}
+            answers = _named_cells(book, "a_", shapes, labels)
             if not answers:
                 sub.problem = "no a_ answer blocks: not a crankbook student workbook"
                 return
             sub.answers = {k: [v for v, _ in cells] for k, cells in answers.items()}
+            sub.row_labels = labels
             sub.parameters = {k: cells[0][0] for k, cells in _named_cells(book, "p_").items()
                               if len(cells) == 1}
+            sub.metadata = dict(book.core_properties)
             ident = _named_cells(book, "s_").get("student_id")
             sub.inside_id = str(ident[0][0]).strip()[:64] if ident and ident[0][0] is not None \
                 else None

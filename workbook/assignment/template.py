@@ -89,6 +89,7 @@ class Assignment:
     items: list = field(default_factory=list)
     task_groups: tuple | None = None   # parameter groups the Task sheet shows (None: all)
     row_angles: dict = field(default_factory=dict)   # grid key -> the angles asked for
+    row_labels: dict = field(default_factory=dict)   # axis -> {zh, en, roles_…, caption_…}
 
     @property
     def item(self):
@@ -100,6 +101,28 @@ class Assignment:
 
     def statement(self, lang):
         return self.statement_zh if lang == "zh" else self.statement_en
+
+    def row_label(self, axis, lang, number, count):
+        """The words of row ``number`` of an axis's table ("啮合 1（齿轮 1–2）"), from
+        the assignment's [row_labels]; None where it gives none."""
+        pattern = self.row_labels.get(axis, {}).get(lang)
+        if pattern is None:
+            return None
+        roles = self.row_labels.get(axis, {}).get(f"roles_{lang}", {})
+        role = roles.get("first") if number == 1 else roles.get("last") if number == count \
+            else roles.get("middle", "")
+        return pattern.format(n=number, next=number + 1, role=role or "")
+
+    def axis_caption(self, axis, lang, values):
+        """A caption above an axis's table of inputs (the gear train and its ratio)."""
+        pattern = self.row_labels.get(axis, {}).get(f"caption_{lang}")
+        if pattern is None:
+            return None
+        fields = {key: (list(v) if isinstance(v, (list, tuple)) else v)
+                  for key, v in values.items()}
+        teeth = fields.get("gear_teeth") or [1.0]
+        return pattern.format(first=f"{teeth[0]:g}", last=f"{teeth[-1]:g}",
+                              ratio=f"{teeth[-1] / teeth[0]:g}")
 
     def name(self, lang):
         return self.zh if lang == "zh" else self.en
@@ -167,4 +190,5 @@ def load(name, path=None):
                       rubric=rubric, sheets=sheets, positions=positions, items=items,
                       task_groups=tuple(head["task_groups"]) if "task_groups" in head else None,
                       row_angles={k: tuple(float(a) for a in v)
-                                  for k, v in head.get("row_angles", {}).items()})
+                                  for k, v in head.get("row_angles", {}).items()},
+                      row_labels=dict(data.get("row_labels", {})))

@@ -1,5 +1,7 @@
 """Per-student parameters: drawn reproducibly from the template's ranges, rounded as a
-teacher would print them, each a valid mechanism, no two alike.
+teacher would print them, each a valid mechanism that passes every check the
+assignment lists (cams above their smallest base radius, no undercut, no pointed
+tooth, …), no two alike.
 
 A student's draw depends only on the seed and their id, so adding a student
 changes nobody else's task and the same roster and seed give the same files.
@@ -43,7 +45,8 @@ def _draw(assignment, base, rng):
 def acceptable(assignment, spec, values):
     """True when the parameters make a mechanism the assignment can use."""
     # only what the checks below read, and what that needs
-    wanted = [q.key for q in spec.quantities() if q.must_pass] + \
+    checks = [k for k in assignment.constraints.get("checks", ()) if k in spec.quantity]
+    wanted = [q.key for q in spec.quantities() if q.must_pass] + checks + \
         [k for k in ("min_transmission_angle", "raw_crank_angle") if k in spec.quantity]
     try:
         values = params.validate(spec, dict(values))
@@ -54,6 +57,8 @@ def acceptable(assignment, spec, values):
     if any(np.any(np.asarray(out[q.key], dtype=float) == 0)
            for q in spec.quantities() if q.must_pass):
         return False                     # e.g. a roller that undercuts the cam
+    if any(not np.all(np.asarray(out[k], dtype=float) == 1) for k in checks):
+        return False                     # a check of the workbook fails (r0 < r0min, …)
     bound = assignment.constraints.get("min_transmission_angle")
     if bound is not None and out.get("min_transmission_angle", 90.0) < bound:
         return False

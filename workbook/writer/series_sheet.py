@@ -2,7 +2,6 @@
 per-item series), input tables and the sheet's charts."""
 import math
 
-from xlsxwriter.utility import xl_rowcol_to_cell
 
 from crankbook.formulas import ROW, quote_sheet
 from crankbook.writer.charts import add_chart
@@ -97,7 +96,6 @@ def _group_between_print_steps(ws, grid, step, layout, styles):
 
 
 def _write_column(ws, quantity, layout, results, styles, sheet_name, rows):
-    spec, locator = layout.spec, layout.locator
     place = layout.places[quantity.key]
     fmt = styles.number(quantity.unit, quantity.format)
     values = results[quantity.key]

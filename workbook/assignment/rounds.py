@@ -1,0 +1,122 @@
+"""Resubmission rounds: every round's grades saved whole, so the next round loses
+nothing.
+
+``grades.json`` in a results directory (teacher-side) holds each student's status,
+items with every cell's result, flags and notes.  ``grade --previous DIR`` reads it:
+a student who did not resubmit keeps the earlier round's row — items, flags and
+feedback, not only the total — and ``--keep best`` takes the better round whole.
+Results written before grades.json existed are read from their gradebook.csv
+(totals and per-item points).
+"""
+import csv
+import json
+import math
+from pathlib import Path
+
+from crankbook.assignment.scoring import CellResult
+from crankbook.errors import CrankbookError
+
+FILE = "grades.json"
+MAX_BYTES = 50 * 1024 * 1024
+
+
+def save(path, grades, assignment):
+    """Write every grade of this round to ``path`` (JSON)."""
+    students = []
+    for g in grades:
+        students.append({
+            "student_id": g.student_id, "name": g.name, "extra": g.extra, "status": g.status,
+            "problem": g.problem, "flags": g.flags, "round": g.round, "files": g.files,
+            "notes": [[word, fields, private] for word, fields, private in g.notes],
+            "items": {key: [points, [[c.label, _plain(c.value), _plain(c.expected),
+                                      c.fraction, c.reason, c.detail] for c in cells]]
+                      for key, (points, cells) in g.items.items()}})
+    text = json.dumps({"assignment": assignment.key, "max_score": assignment.max_score,
+                       "students": students}, ensure_ascii=False, indent=0)
+    Path(path).write_text(text + "\n", encoding="utf-8")
+
+
+def _plain(value):
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value if isinstance(value, (int, float, str)) or value is None else str(value)
+
+
+def load(previous, assignment):
+    """student_id -> Grade of an earlier round (graded students only)."""
+    folder = Path(previous)
+    path = folder / FILE
+    if not path.is_file():
+        return _legacy(folder, assignment)
+    try:
+        if path.stat().st_size > MAX_BYTES:
+            raise ValueError("too large")
+        data = json.loads(path.read_text(encoding="utf-8"))
+        if data.get("assignment") != assignment.key:
+            raise CrankbookError(f"--previous {previous}: graded another assignment "
+                                 f"({str(data.get('assignment'))[:40]!r})")
+        return {g.student_id: g for g in map(_grade, data["students"]) if g.status == "graded"}
+    except CrankbookError:
+        raise
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as error:
+        raise CrankbookError(f"--previous {previous}: its {FILE} is damaged "
+                             f"({type(error).__name__})") from None
+
+
+def _grade(entry):
+    from crankbook.assignment.grade import Grade
+    g = Grade(student_id=str(entry["student_id"]), name=str(entry["name"]),
+              extra=dict(entry.get("extra", {})), status=str(entry["status"]),
+              problem=str(entry.get("problem", "")), round=int(entry.get("round", 1)))
+    g.flags = [str(f) for f in entry.get("flags", [])]
+    g.files = [str(f) for f in entry.get("files", [])]
+    g.notes = [(str(w), dict(f), bool(p)) for w, f, p in entry.get("notes", [])]
+    for key, (points, cells) in entry.get("items", {}).items():
+        g.items[str(key)] = (float(points), [
+            CellResult(str(label), value, float("nan") if expected is None else float(expected),
+                       float(fraction), str(reason), dict(detail))
+            for label, value, expected, fraction, reason, detail in cells])
+    return g
+
+
+def _legacy(folder, assignment):
+    """An earlier round written before grades.json: totals and per-item points."""
+    from crankbook.assignment.grade import Grade
+    path = folder / "gradebook.csv"
+    if not path.is_file():
+        raise CrankbookError(f"--previous {folder}: has neither {FILE} nor gradebook.csv of an "
+                             f"earlier round")
+    out, number = {}, 1
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as handle:
+            for number, row in enumerate(csv.DictReader(handle), start=2):
+                if row.get("status") != "graded":
+                    continue
+                g = Grade(student_id=row["student_id"], name=row.get("name", ""),
+                          status="graded")
+                for item in assignment.items:
+                    column = next((c for c in row if c and c.endswith(f"(a_{item.key})")), None)
+                    if column and row[column] not in ("", None):
+                        g.items[item.key] = (float(row[column]), [])
+                out[g.student_id] = g
+    except (OSError, UnicodeDecodeError, csv.Error, KeyError, ValueError) as error:
+        raise CrankbookError(f"--previous {folder}: its gradebook.csv cannot be read "
+                             f"(row {number}: {type(error).__name__})") from None
+    return out
+
+
+def keep(new, old, rule):
+    """The grade a student keeps in a resubmission round: the new one, or the earlier
+    round's whole (items, flags, feedback) where the student did not resubmit or, with
+    ``rule`` best, where it scored higher."""
+    if old is None:
+        return new
+    new.round = old.round + 1
+    if new.status != "graded":
+        kept = old
+        kept.note(None, "kept_previous", score=f"{old.score:g}", rule="kept_no_new")
+        return kept
+    if rule == "best" and old.score > new.score:
+        old.note(None, "kept_previous", score=f"{old.score:g}", rule="kept_best")
+        return old
+    return new
