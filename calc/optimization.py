@@ -148,6 +148,22 @@ def peak_side_force_power_stroke(crank_radius, rod_length, offset, axial_force,
     return float(axial_force * np.max(np.abs(np.tan(rod_angle(phi, a, b, e)))))
 
 
+def peak_side_force(crank_radius, rod_length, offset, axial_force, samples=72001):
+    """Largest piston side force P·|tanβ| over a whole revolution [N] (dense sampling).
+
+    Parameters
+    ----------
+    crank_radius, rod_length, offset : float
+        a, b, e [m].
+    axial_force : float
+        The piston's axial force P [N], held constant.
+    """
+    from crankbook.calc.kinematics import rod_angle
+    phi = np.linspace(0, 2 * np.pi, samples)
+    return float(axial_force * np.max(np.abs(np.tan(rod_angle(phi, crank_radius, rod_length,
+                                                                offset)))))
+
+
 def where_feasible(value, feasible):
     """``value`` where ``feasible`` is 1, NaN elsewhere (a blank cell)."""
     return np.where(np.asarray(feasible) == 1, value, np.nan)

@@ -46,7 +46,11 @@ def test_seed_002_safety_factor():
     # n = σ−1 / (kσ/(β·εσ)·σa + ψσ·σm), by hand: 495 / (1.37778·178.45 + 88.3245)
     claim = next(c for c in claims.load("compressor").claims if c.key == "safety_factor")
     assert claim.recompute() == pytest.approx(495 / (1.55 / 1.125 * 178.45 + 0.33 * 267.65))
-    assert claim.status(claim.recompute()) == "ok"
+    # 1.48120: the printed 1.4813 is one unit of its last digit off, more than the
+    # rounding of the printed σa and σm explains
+    assert claim.status(claim.recompute()) == "mismatch"
+    tolerance, why = claim.tolerance_used(claim.recompute())
+    assert 0.5e-4 < tolerance < abs(claim.reported - claim.recompute()) and "sa" in why
 
 
 def test_known_verdicts():
@@ -64,7 +68,15 @@ def test_known_verdicts():
     assert status[("thesis", "combined_stress")] == "inconsistent"
     assert status[("thesis", "tangential_min")] == "model-disagrees"
     assert status[("thesis", "bending_stress")] == "mismatch"
-    assert status[("thesis", "reciprocating_mass")] == "unverifiable"
+    assert status[("thesis", "reciprocating_mass")] == "model-disagrees"   # the 61 % share
+    assert status[("thesis", "journal_to_pin")] == "mismatch"       # 44.5 for 41.5: arithmetic
+    assert status[("thesis", "stroke_is_radius")] == "inconsistent"     # S = R against S = 2r
+    assert status[("thesis", "pi_in_the_gas_force")] == "ok"           # 3.14 is π to 2 decimals
+    assert status[("balancing-ring", "two_stroke_second_order_moment")] == "mismatch"
+    assert status[("compressor", "stage3_ratio")] == "ok"                # 5.26 prints as 5
+    assert status[("course-report", "r07_ra3")] == "mismatch"          # not half of da3
+    assert status[("course-report", "r07_alpha_a3")] == "ok"           # follows the printed ra3
+    assert status[("course-report", "motion_v_10")] == "mismatch"      # 2803.91 for 2855.63
     assert status[("compressor", "crank_radius")] == "inconsistent"
     assert status[("compressor", "shaft_power_from_the_workbook")] == "model-disagrees"
     assert status[("course-report", "listing_lengths")] == "inconsistent"
@@ -96,7 +108,8 @@ def test_verdicts_mean_one_thing():
 def test_course_report_table_against_the_kinematics():
     """The 2.3 table's entries: crankbook's exact crank-slider kinematics (calc/) with
     the report's L1 = 135, L2 = 170 mm and ω1 = 68.068 rad/s give the recomputation;
-    the derived patterns (λ = 0.7647, ω2 from 34 rad/s) reproduce the printed columns."""
+    the derived patterns (the fitted λ ≈ 0.764, ω2 from 34 rad/s) reproduce the printed
+    columns to 1 % of their peak, the stated inputs miss by more than 2 %."""
     from crankbook.calc import kinematics
     found = {c.key: c for c in claims.load("course-report").claims}
     r, l, w = 0.135, 0.170, 68.068
@@ -113,7 +126,7 @@ def test_course_report_table_against_the_kinematics():
     for key in ("v", "w2", "a"):
         column = [c for k, c in found.items() if k.startswith(f"motion_{key}_")]
         peak = max(abs(c.reported) for c in column)
-        assert max(abs(c.derived_value() - c.reported) for c in column) < 0.005 * peak
+        assert max(abs(c.derived_value() - c.reported) for c in column) < 0.01 * peak
         assert max(abs(c.recompute() - c.reported) for c in column) > 0.02 * peak
     assert found["motion_a_0"].recompute() == pytest.approx(-1122201, rel=1e-5)
     assert found["motion_w2_0"].recompute() == pytest.approx(-68.068 * 135 / 170)
@@ -129,7 +142,7 @@ def test_audit_all_writes_workbook_report_and_json(tmp_path):
     assert {f["document"] for f in data["findings"]} == set(DOCUMENTS)
     assert all(isinstance(f["line"], int) for f in data["findings"])
     assert set(data["verdicts"]) == set(claims.VERDICTS)
-    assert data["coverage"]["thesis"]["omitted"]
+    assert data["coverage"]["thesis"]["omitted_sections"]
     report = (tmp_path / "audit.md").read_text(encoding="utf-8")
     assert "| thesis |" in report and "model-disagrees" in report
     assert "**outside-rule** (-9.1 %)" in report               # L2 = 20 mm against 22–39.6
@@ -294,4 +307,212 @@ def test_sources_with_a_misplaced_number_exit_1(tmp_path):
     (sources / claims.load("thesis").file).write_text("\n".join(lines), encoding="utf-8")
     done = run_cli("audit", "thesis", "-o", tmp_path / "a.xlsx", "--sources", sources)
     assert done.returncode == 1, done.stdout + done.stderr
-    assert "thesis: crank_radius: 50 does not occur at line 369" in done.stdout
+    assert "thesis: crank_radius: the quote" in done.stdout and "line 369" in done.stdout
+
+
+# ------------------------------------------------- a signable audit (issue 23)
+def _findings(name):
+    return {f["key"]: f for f in claims.load(name).findings()}
+
+
+@pytest.mark.parametrize("name", DOCUMENTS)
+def test_every_number_in_a_note_is_computed(name):
+    """Notes, models, missing and derived texts are templates: no typed digit may stand
+    for a value (placeholders are filled from the claim's formulas at run time), and
+    every template renders."""
+    for claim in claims.load(name).claims:
+        for field, template in claim.texts().items():
+            assert claims.typed_numbers(template) == [], (claim.key, field, template)
+            for expression in re.findall(r"\{=([^{}:]+)", template or ""):
+                # only structural constants: small integers and unit conversions (10^k)
+                literals = re.findall(r"(?<![\w.])\d+(?:\.\d+)?", expression)
+                assert all(float(x).is_integer() and (float(x) <= 100 or
+                                                      re.fullmatch(r"10*", x))
+                           for x in literals), (claim.key, "a value typed into an expression",
+                                                expression)
+            claim.render(template, claim.recompute(), claim.derived_value())
+
+
+def test_the_note_check_can_fail():
+    assert claims.typed_numbers("arccos(157.868/175.9783) = 26.2278°") == \
+        ["157.868", "175.9783", "26.2278"]
+    assert claims.typed_numbers("= {recomputed:.4f}° (`2·ha`, line 204, m1, §4.6)") == []
+    claim = claims.Claim(key="k", section="s", line=1, claim="c", unit="mm", reported=87.99365,
+                         inputs={"da": 175.9783}, python="da/2")
+    assert claim.render("half of {da} is {recomputed:.5f}", claim.recompute()) == \
+        "half of 175.9783 is 87.98915"
+
+
+@pytest.mark.parametrize("name", DOCUMENTS)
+def test_notes_that_say_holds_sit_on_ok_rows(name):
+    for f in claims.load(name).findings():
+        if f["note"].startswith("Holds"):
+            assert f["status"] == "ok", f["key"]
+
+
+@pytest.mark.parametrize("name", DOCUMENTS)
+def test_quotes_are_found_by_a_plain_text_search(name):
+    """Each quote, in the document's own script, is a substring of its line at its
+    offset; a consistency claim's other statement is verbatim on its line."""
+    document = claims.load(name)
+    lines = (_seeds() / document.file).read_text(encoding="utf-8").splitlines()
+    for claim in document.claims:
+        if claim.fits:
+            continue
+        line = lines[claim.line - 1]
+        assert claim.quote and line.find(claim.quote) >= 0, claim.key
+        assert line[claim.offset:claim.offset + len(claim.quote)] == claim.quote, claim.key
+        if claim.other:
+            assert claim.other in lines[claim.other_line - 1], claim.key
+
+
+def test_seed_004_quotes_are_traditional_chinese():
+    document = claims.load("balancing-ring")
+    text = (_seeds() / document.file).read_text(encoding="utf-8")
+    quotes = [c.quote for c in document.claims]
+    assert any("慣性" in q for q in quotes) and not any("惯性" in q for q in quotes)
+    assert all(q in text for q in quotes)
+
+
+@pytest.mark.parametrize("name", DOCUMENTS)
+def test_coverage_counts_every_number_of_the_audited_sections(name):
+    document = claims.load(name)
+    lines = (_seeds() / document.file).read_text(encoding="utf-8").splitlines()
+    coverage = claims.coverage(document, lines)
+    assert document.audited and coverage["numbers"] > 0
+    assert coverage["unaccounted"] == [], coverage["unaccounted"][:5]
+    assert coverage["claimed"] + coverage["left_out"] == coverage["numbers"]
+    assert len(coverage["left_out_numbers"]) == coverage["left_out"]
+    assert all(n["reason"] for n in coverage["left_out_numbers"])
+    assert coverage["claimed"] >= len([c for c in document.claims if c.quote]) // 4
+
+
+def test_coverage_can_fail():
+    """Without its [[omitted]] entries a document's numbers are unaccounted."""
+    import dataclasses
+    document = claims.load("thesis")
+    lines = (_seeds() / document.file).read_text(encoding="utf-8").splitlines()
+    bare = dataclasses.replace(document, omitted=[])
+    assert any(n["number"] == "328" for n in claims.coverage(bare, lines)["unaccounted"])
+
+
+def test_the_documents_known_slips_are_claims():
+    thesis = _findings("thesis")
+    assert thesis["stroke_is_radius"]["status"] == "inconsistent"      # S = R (§4.8.1)
+    share = thesis["reciprocating_mass"]
+    assert share["status"] == "model-disagrees" and "61%" in share["note"]
+    assert "328" in share["note"] and "316" in share["note"]          # the printed masses
+    pi = thesis["pi_in_the_gas_force"]
+    assert "0.05 %" in pi["note"] and pi["quote"].startswith("43.14")
+    report = _findings("course-report")
+    assert report["r07_ra3"]["status"] == "mismatch"
+    assert "87.98915" in report["r07_ra3"]["note"]                     # half of da3
+    assert report["r07_alpha_a3"]["status"] == "ok"                    # from the printed ra3
+
+
+@pytest.mark.parametrize("name", DOCUMENTS)
+def test_ok_means_within_the_rows_tolerance(name):
+    for claim, f in zip(claims.load(name).claims, claims.load(name).findings()):
+        assert f["tolerance"] >= 0 and f["tolerance_reason"], f["key"]
+        if f["deviation"] is None:
+            continue
+        assert (f["status"] == "ok") == (abs(f["deviation"]) <= f["tolerance"] * (1 + 1e-12)), \
+            f["key"]
+        decimals = claim.printed_decimals()
+        if claim.tolerance is None and not claim.rounded and not claim.fits and \
+                claim.kind != "rule" and decimals is not None:
+            assert f["tolerance"] == pytest.approx(0.5 * 10.0 ** -decimals), f["key"]
+
+
+@pytest.mark.parametrize("name", DOCUMENTS)
+def test_a_row_that_is_not_ok_shows_the_difference(name):
+    for f in claims.load(name).findings():
+        if f["status"] in ("ok", "unverifiable") or f["deviation"] is None:
+            continue
+        reported, recomputed = f["reported_display"], f["recomputed_display"]
+        assert reported != recomputed, f["key"]
+        shown_back = claims.printed_value(recomputed.replace("−", "-"))
+        compared = f["reported"] if f["reported"] is not None else f["derived"]
+        assert shown_back != pytest.approx(compared, abs=0), f["key"]
+
+
+def test_hidden_by_rounding_rows():
+    thesis, compressor = _findings("thesis"), _findings("compressor")
+    assert (thesis["web_width"]["reported_display"],
+            thesis["web_width"]["recomputed_display"]) == ("70", "70.40")
+    assert compressor["stage3_ratio"]["recomputed_display"] == "5.26"
+    v10 = _findings("course-report")["motion_v_10"]
+    assert v10["status"] == "mismatch" and v10["recomputed_display"].startswith("−2855.63")   # the issue's 2855.63
+    assert v10["deviation_percent"] == pytest.approx(-1.81, abs=0.01)
+
+
+def test_table_finding_names_the_ratio_the_motion_table_follows():
+    report = claims.load("course-report")
+    keys = [c.key for c in report.claims]
+    fit = report.claims[keys.index("motion_fit")]
+    assert keys.index("motion_fit") + 1 == keys.index("motion_phi_rad_0")   # above its entries
+    finding = _findings("course-report")["motion_fit"]
+    assert finding["derived"] == pytest.approx(0.765, abs=0.005)  # λ the θ2 column follows
+    assert finding["recomputed"] == pytest.approx(135 / 170)
+    assert finding["status"] == "mismatch"
+    by_column = {f.column: f.result() for f in fit.fits}
+    assert by_column["v"]["fitted"] == pytest.approx(0.765, abs=0.005)
+    assert by_column["s"]["fitted"] == pytest.approx(135 / 170, abs=0.002)   # s keeps λ
+    assert by_column["w2"]["fitted"] == pytest.approx(34.0, abs=0.1)
+    assert by_column["phi_rad"]["fitted"] == pytest.approx(3.14, abs=0.002)  # π as 3.14
+    assert "0.7636" in finding["note"]
+
+
+def test_verdicts_follow_the_kind():
+    """mismatch: the document's own numbers (no crankbook model); model-disagrees: a
+    named model; inconsistent: a quoted other statement; outside-rule: a rule."""
+    for name in DOCUMENTS:
+        for claim in claims.load(name).claims:
+            python = claim.python or ""
+            if claim.kind == "value":
+                assert "workbook(" not in python, (name, claim.key)
+            if claim.kind == "model":
+                assert claim.model, (name, claim.key)
+            if claim.kind == "rule":
+                assert re.search(r"\b(min|max)\(", python), (name, claim.key)   # nearest inside
+
+
+def test_audit_json_carries_the_contract(tmp_path):
+    out = tmp_path / "audit.xlsx"
+    done = run_cli("audit", "all", "-o", out, "--json", tmp_path / "f.json",
+                   "--sources", _seeds())
+    assert done.returncode == 0, done.stdout + done.stderr
+    data = json.loads((tmp_path / "f.json").read_text(encoding="utf-8"))
+    for f in data["findings"]:
+        assert isinstance(f["offset"], int) and f["quote"] and f["tolerance_reason"], f["key"]
+        assert f["reported_display"] and f["recomputed_display"]
+    for name in DOCUMENTS:
+        coverage = data["coverage"][name]
+        assert coverage["claimed"] + coverage["left_out"] == coverage["numbers"]
+        assert all(n["reason"] for n in coverage["left_out_numbers"])
+    report = (tmp_path / "audit.md").read_text(encoding="utf-8")
+    assert "numbers, " in report and "unaccounted" in report
+
+
+@pytest.mark.libreoffice
+def test_audit_of_a_workbook_whose_inputs_break_a_rule(built, tmp_path):
+    book = openpyxl.load_workbook(built)
+    sheet, cell = next(iter(book.defined_names["p_rod_length"].destinations))
+    book[sheet][cell.replace("$", "")].value = 0.01
+    bad = tmp_path / "bad.xlsx"
+    book.save(bad)                                   # saved without values, as openpyxl does
+    done = run_cli("audit", bad)
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "rod too short" in done.stdout and "status cell says" in done.stdout
+    assert "disagree" not in done.stdout               # no crank angle, no check cell
+
+
+def test_audit_names_a_student_workbook_and_a_key(tmp_path):
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名\n2024001,张三\n", encoding="utf-8")
+    assert run_cli("assign", "--roster", roster, "-o", tmp_path / "cls").returncode == 0
+    done = run_cli("audit", tmp_path / "cls" / "students" / "2024001.xlsx")
+    assert done.returncode == 2 and "a crankbook student workbook" in done.stderr
+    assert "crankbook grade" in done.stderr and "Traceback" not in done.stderr
+    done = run_cli("audit", tmp_path / "cls" / "keys" / "2024001.xlsx")
+    assert done.returncode == 0 and "an answer key of assignment" in done.stdout

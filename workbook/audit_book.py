@@ -14,26 +14,31 @@ import xlsxwriter
 from xlsxwriter.utility import xl_col_to_name
 
 from crankbook.atomic import atomic_path
-from crankbook.claims import INPUT, STATUS_OF_KIND, VERDICTS
+from crankbook.claims import INPUT, STATUS_OF_KIND, VERDICTS, coverage, shown
 from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.styles import Styles
 
 # (label, width in characters, wrapped)
 COLUMNS = [("key", 14, False), ("section", 9, True), ("line", 5, False),
-           ("claim", 40, True), ("reported", 10, False), ("unit", 6, False),
-           ("derived", 10, False), ("derived: what", 18, True), ("recomputed", 11, False),
-           ("verdict", 12, True), ("tolerance", 7, False), ("margin %", 7, False),
-           ("kind", 9, False), ("basis", 30, True), ("note", 40, True)]
+           ("claim", 34, True), ("quote (line, offset)", 22, True), ("reported", 10, False),
+           ("unit", 6, False), ("derived", 10, False), ("derived: what", 18, True),
+           ("recomputed", 12, False), ("deviation", 10, False), ("deviation %", 8, False),
+           ("tolerance", 9, False), ("verdict", 12, True), ("tolerance: why", 20, True),
+           ("margin %", 7, False), ("kind", 9, False), ("basis", 28, True), ("note", 40, True)]
 COL = {label: i for i, (label, _, _) in enumerate(COLUMNS)}
 INPUTS_AT = len(COLUMNS)            # input name/value pairs start in this column
 STATUSES = list(VERDICTS)
 COLOURS = {"ok": "#C6EFCE", "mismatch": "#FFC7CE", "inconsistent": "#FFEB9C",
            "model-disagrees": "#F8CBAD", "outside-rule": "#DDEBF7", "unverifiable": "#D9D9D9"}
-FINDING_FIELDS = ["document", "key", "section", "line", "claim", "reported", "printed", "unit",
-                  "derived", "derived_what", "recomputed", "status", "kind", "tolerance_percent",
-                  "margin_percent", "other", "other_line", "model", "missing", "note"]
+FINDING_FIELDS = ["document", "key", "section", "line", "offset", "quote", "claim", "reported",
+                  "printed", "unit", "derived", "derived_what", "recomputed", "status", "kind",
+                  "tolerance", "tolerance_reason", "reported_display", "recomputed_display",
+                  "deviation", "deviation_percent", "margin_percent", "other", "other_line",
+                  "model", "missing", "note"]
 HEADER_ROW = 3
 LINE_HEIGHT = 12.75                  # points per wrapped line (10-point Arial)
+NO_SOURCES = ("the seed texts were not given (--sources DIR or $CRANKBOOK_SEEDS): the "
+              "numbers of the audited sections cannot be counted")
 
 
 def _atomic(path, write):
@@ -45,10 +50,10 @@ def _clean(value):
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-def write_json(documents, path):
+def write_json(documents, path, sources=None):
     findings = [{k: _clean(f[k]) for k in FINDING_FIELDS}
                 for d in documents for f in d.findings()]
-    coverage = {d.key: coverage_of(d) for d in documents}
+    coverage = {d.key: coverage_of(d, sources) for d in documents}
 
     def write(temporary):
         with open(temporary, "w", encoding="utf-8") as handle:
@@ -57,51 +62,55 @@ def write_json(documents, path):
     _atomic(path, write)
 
 
-def coverage_of(document):
-    """Claims per section and the numbers left out, with why."""
-    sections = Counter(c.section for c in document.claims)
-    return {"claims": len(document.claims), "sections": dict(sections),
-            "omitted": [dict(o) for o in document.omitted]}
+def coverage_of(document, sources=None):
+    """The document's coverage: every number of its audited sections, claimed or left
+    out with why (claims.coverage, from the seed text in ``sources``); the claims per
+    section and the sections left out as a whole."""
+    out = {"claims": len(document.claims),
+           "sections": dict(Counter(c.section for c in document.claims)),
+           "omitted_sections": [dict(o) for o in document.omitted
+                                if "line" not in o and "lines" not in o]}
+    if sources is None:
+        out.update(numbers=None, claimed=None, left_out=None, why=NO_SOURCES)
+        return out
+    lines = (Path(sources) / document.file).read_text(encoding="utf-8").splitlines()
+    out.update(coverage(document, lines))
+    return out
 
 
-def decimals_of(claim):
-    """Decimal places the document prints the number with (for the recomputation's
-    display): from ``printed`` or the reported value; five significant digits where
-    it prints a fraction or no number."""
-    if claim.printed and "/" not in claim.printed:
-        return min(len(claim.printed.partition(".")[2]), 6)
-    if claim.reported is not None and not claim.printed:
-        return decimals_of_value(claim.reported)
-    value = claim.reported if claim.reported is not None else claim.derived_value()
-    if not value:
-        return 4
-    return int(min(max(4 - math.floor(math.log10(abs(value))), 0), 8))
-
-
-def _basis(claim):
+def _basis(finding):
     """What a verdict rests on besides the recomputation, in words."""
-    if claim.kind == "consistency":
-        return f"other statement (line {claim.other_line}): {claim.other}"
-    if claim.kind == "model":
-        return f"model: {claim.model}"
-    if claim.kind == "unverifiable":
-        return f"missing: {claim.missing}"
-    if claim.kind == "rule":
+    if finding["kind"] == "consistency":
+        return f"other statement (line {finding['other_line']}): {finding['other']}"
+    if finding["kind"] == "model":
+        return f"model: {finding['model']}"
+    if finding["kind"] == "unverifiable":
+        return f"missing: {finding['missing']}"
+    if finding["kind"] == "rule":
         return "rule quoted by the document; recomputed = the nearest value inside it"
     return "the document's own inputs and formula"
 
 
-def _number(x, digits):
-    if x is None:
+def _deviation(finding):
+    if finding["deviation"] is None:
         return "—"
-    return f"{x:.{digits}f}" if abs(x) < 1e15 else f"{x:.6g}"
+    text = shown(finding["deviation"], ".3g")
+    if finding["deviation_percent"] is not None:
+        text += f" ({shown(finding['deviation_percent'], '+.3g')} %)"
+    return text
 
 
-def write_markdown(documents, path):
+def _quote(finding):
+    return f"{finding['line']}:{finding['offset']} “{finding['quote']}”"
+
+
+def write_markdown(documents, path, sources=None):
     lines = ["# Audit of the source documents", "",
              "Every number the documents print, beside an independent recomputation "
-             "(`crankbook audit`). `line` is the line of the seed file where the number "
-             "is printed. Verdicts — one meaning each:", ""]
+             "(`crankbook audit`). `line:offset` locates the quote in the seed file "
+             "(character offset within the line, from 0). **ok** means within the "
+             "tolerance of the row (half a unit of the last printed digit unless the row "
+             "says why wider). Verdicts — one meaning each:", ""]
     lines += [f"- **{status}**: {meaning}" for status, meaning in VERDICTS.items()]
     lines += ["", "| document | claims | " + " | ".join(STATUSES) + " |",
               "|---|---|" + "---|" * len(STATUSES)]
@@ -111,37 +120,48 @@ def write_markdown(documents, path):
                      + " | ".join(str(counts.get(s, 0)) for s in STATUSES) + " |")
     for d in documents:
         lines += ["", f"## {d.key}: {d.title}", "", f"Source: `{d.file}`", "",
-                  "| § | line | claim | reported | derived | recomputed | unit | verdict | basis | note |",
-                  "|---|---|---|---|---|---|---|---|---|---|"]
-        for claim, f in zip(d.claims, d.findings()):
-            digits = decimals_of(claim)
-            reported = claim.printed or _number(f["reported"], digits)
-            derived = "—" if f["derived"] is None else \
-                f"{_number(f['derived'], digits)} ({f['derived_what']})"
+                  "| § | quote (line:offset) | claim | reported | recomputed | unit | deviation "
+                  "| tolerance | verdict | basis | note |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|"]
+        for f in d.findings():
             verdict = f["status"] if f["status"] == "ok" else f"**{f['status']}**"
             if f["margin_percent"] is not None:
                 verdict += f" ({f['margin_percent']:+.1f} %)"
-            cells = [f["section"], f["line"], f["claim"], reported, derived,
-                     _number(f["recomputed"], digits), f["unit"], verdict, _basis(claim),
-                     f["note"]]
+            derived = "" if f["derived"] is None else \
+                f" — derived: {shown(f['derived'], '.6g')} ({f['derived_what']})"
+            cells = [f["section"], _quote(f), f["claim"], f["reported_display"],
+                     f["recomputed_display"] + derived, f["unit"], _deviation(f),
+                     f"±{shown(f['tolerance'], '.2g')} ({f['tolerance_reason']})", verdict,
+                     _basis(f), f["note"]]
             lines.append("| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ")
                                            for c in cells) + " |")
-        coverage = coverage_of(d)
-        lines += ["", f"### Coverage of {d.key}", "",
-                  "Claims per section: " + ", ".join(f"{s} ({n})"
-                                                     for s, n in coverage["sections"].items())
-                  + "."]
-        if d.omitted:
-            lines += ["", "Left out:", ""]
-            lines += [f"- {o['section']}: {o['what']} — {o['why']}" for o in d.omitted]
+        lines += ["", f"### Coverage of {d.key}", ""] + _coverage_lines(coverage_of(d, sources))
 
     def write(temporary):
         Path(temporary).write_text("\n".join(lines) + "\n", encoding="utf-8")
     _atomic(path, write)
 
 
-def write_audit_workbook(documents, path):
-    _atomic(path, lambda temporary: _write_book(documents, temporary))
+def _coverage_lines(coverage):
+    out = ["Claims per section: " + ", ".join(f"{s} ({n})"
+                                              for s, n in coverage["sections"].items()) + "."]
+    if coverage["numbers"] is None:
+        out += ["", coverage["why"] + "."]
+    else:
+        ranges = ", ".join(f"{a}–{b}" for a, b in coverage["audited"])
+        out += ["", f"Audited lines {ranges}: {coverage['numbers']} numbers, "
+                    f"{coverage['claimed']} in a claim's quote, {coverage['left_out']} left out "
+                    f"(below, by reason), {len(coverage['unaccounted'])} unaccounted."]
+        reasons = Counter(n["reason"] for n in coverage["left_out_numbers"])
+        out += [""] + [f"- {n} × {reason}" for reason, n in reasons.most_common()]
+    if coverage["omitted_sections"]:
+        out += ["", "Left out as a whole:", ""]
+        out += [f"- {o['section']}: {o['what']} — {o['why']}" for o in coverage["omitted_sections"]]
+    return out
+
+
+def write_audit_workbook(documents, path, sources=None):
+    _atomic(path, lambda temporary: _write_book(documents, temporary, sources))
 
 
 class _Formats:
@@ -160,7 +180,9 @@ class _Formats:
         self.percent = book.add_format({"font_name": "Arial", "font_size": 10,
                                         "num_format": "0.###%", "valign": "top"})
         self.margin = book.add_format({"font_name": "Arial", "font_size": 10,
-                                       "num_format": "+0.0;-0.0;0", "valign": "top"})
+                                       "num_format": "+0.00;-0.00;0", "valign": "top"})
+        self.general = book.add_format({"font_name": "Arial", "font_size": 10,
+                                        "num_format": "General", "valign": "top"})
         self.verdict = book.add_format({"font_name": "Arial", "font_size": 10, "bold": True,
                                         "valign": "top", "text_wrap": True})
         self.link = book.add_format({"font_name": "Arial", "font_size": 10,
@@ -179,7 +201,7 @@ class _Formats:
         return self._numbers[key]
 
 
-def _write_book(documents, filename):
+def _write_book(documents, filename, sources=None):
     book = xlsxwriter.Workbook(filename)
     book.set_properties({"title": "crankbook audit", "author": "crankbook",
                          "created": FIXED_TIME})
@@ -189,12 +211,12 @@ def _write_book(documents, filename):
     names = {d.key: d.key[:31] for d in documents}
     for document in documents:
         _write_document_sheet(book, document, names[document.key], formats, status_formats)
-    _write_summary(book, summary, documents, names, formats, status_formats)
+    _write_summary(book, summary, documents, names, formats, status_formats, sources)
     summary.activate()
     book.close()
 
 
-def _write_summary(book, ws, documents, names, formats, status_formats):
+def _write_summary(book, ws, documents, names, formats, status_formats, sources):
     styles = formats.styles
     ws.write(0, 0, "Audit summary: verdicts per document (formulas over the sheets)", styles.title)
     ws.write(1, 0, "Each document's sheet lists every number it prints with its line in the "
@@ -241,16 +263,13 @@ def _write_summary(book, ws, documents, names, formats, status_formats):
     row += 2
     ws.write(row, 0, "Coverage", styles.group)
     for document in documents:
-        coverage = coverage_of(document)
-        row += 1
-        ws.write(row, 0, document.key, formats.plain)
-        text = "; ".join(f"{s}: {n}" for s, n in coverage["sections"].items())
-        ws.merge_range(row, 1, row, total_col + 3, f"claims per section — {text}", formats.wrap)
-        ws.set_row(row, LINE_HEIGHT * _lines(text, 100))
-        for omitted in document.omitted:
+        for text in _coverage_lines(coverage_of(document, sources)):
+            if not text:
+                continue
             row += 1
-            text = f"left out ({omitted['section']}): {omitted['what']} — {omitted['why']}"
-            ws.merge_range(row, 1, row, total_col + 3, text, formats.wrap)
+            if text.startswith("Claims per section"):
+                ws.write(row, 0, document.key, formats.plain)
+            ws.merge_range(row, 1, row, total_col + 3, text.lstrip("- "), formats.wrap)
             ws.set_row(row, LINE_HEIGHT * _lines(text, 100))
     ws.set_paper(9)
     ws.set_landscape()
@@ -300,9 +319,15 @@ def _write_document_sheet(book, document, name, formats, status_formats):
     ws.set_footer("&L&A&R&P / &N")
 
 
+def _digits(display):
+    """Decimal places of a displayed number ('70.40' → 2)."""
+    mantissa = display.lower().partition("e")[0]
+    return len(mantissa.partition(".")[2]) if "/" not in display else 6
+
+
 def _write_claim_row(ws, row, claim, finding, formats):
     excel_row = row + 1
-    digits = decimals_of(claim)
+    shown_digits = _digits(finding["recomputed_display"])
     cells = {}
     for i, (input_name, value) in enumerate(claim.inputs.items()):
         ws.write(row, INPUTS_AT + 2 * i, input_name, formats.key)
@@ -313,41 +338,55 @@ def _write_claim_row(ws, row, claim, finding, formats):
     ws.write(row, COL["section"], claim.section, formats.wrap)
     ws.write_number(row, COL["line"], claim.line, formats.centred)
     ws.write(row, COL["claim"], claim.claim, formats.wrap)
+    ws.write(row, COL["quote (line, offset)"], _quote(finding), formats.wrap)
+    compared = claim.compared()
     if claim.reported is not None:
-        ws.write_number(row, COL["reported"], claim.reported, formats.number(digits))
+        ws.write_number(row, COL["reported"], compared,
+                        formats.number(_digits(finding["reported_display"])))
     else:
         ws.write(row, COL["reported"], "(formula)", formats.plain)
     ws.write(row, COL["unit"], claim.unit, formats.plain)
     if finding["derived"] is not None:
-        ws.write_number(row, COL["derived"], finding["derived"], formats.number(digits))
+        ws.write_number(row, COL["derived"], finding["derived"], formats.number(shown_digits))
         ws.write(row, COL["derived: what"], finding["derived_what"], formats.wrap)
     recomputed = finding["recomputed"]
     if claim.formula and recomputed is not None:
         formula = "=" + INPUT.sub(lambda m: cells[m.group(1)], claim.formula)
-        ws.write_formula(row, COL["recomputed"], formula, formats.number(digits), recomputed)
+        ws.write_formula(row, COL["recomputed"], formula, formats.number(shown_digits),
+                         recomputed)
     elif recomputed is not None:
-        ws.write_number(row, COL["recomputed"], recomputed, formats.number(digits))
-    compared = f"{xl_col_to_name(COL['reported' if claim.reported is not None else 'derived'])}" \
-               f"{excel_row}"
+        ws.write_number(row, COL["recomputed"], recomputed, formats.number(shown_digits))
+    compared_cell = f"{xl_col_to_name(COL['reported' if claim.reported is not None else 'derived'])}" \
+                    f"{excel_row}"
     rec = f"{xl_col_to_name(COL['recomputed'])}{excel_row}"
     tol = f"{xl_col_to_name(COL['tolerance'])}{excel_row}"
+    if finding["deviation"] is not None:
+        ws.write_formula(row, COL["deviation"], f"={compared_cell}-{rec}",
+                         formats.number(shown_digits), finding["deviation"])
+        if finding["deviation_percent"] is not None:
+            ws.write_formula(row, COL["deviation %"],
+                             f'=IF({rec}=0,"",({compared_cell}-{rec})/{rec}*100)',
+                             formats.margin, finding["deviation_percent"])
     differs = STATUS_OF_KIND.get(claim.kind, "unverifiable")
-    ws.write_number(row, COL["tolerance"], claim.tolerance, formats.percent)
-    verdict = (f'=IF(OR({compared}="",{rec}=""),"unverifiable",IF(ABS({compared}-{rec})<='
-               f'MAX({tol}*ABS({rec}),{claim.abs_tolerance!r}),"ok","{differs}"))')
+    ws.write_number(row, COL["tolerance"], finding["tolerance"], formats.general)
+    ws.write(row, COL["tolerance: why"], finding["tolerance_reason"], formats.wrap)
+    # the same test as claims.Claim.within: |compared − recomputed| ≤ tolerance
+    verdict = (f'=IF(OR({compared_cell}="",{rec}=""),"unverifiable",'
+               f'IF(ABS({compared_cell}-{rec})<={tol}*(1+1E-12),"ok","{differs}"))')
     ws.write_formula(row, COL["verdict"], verdict, formats.verdict, finding["status"])
     if claim.kind == "rule":
         margin = (f'=IF({xl_col_to_name(COL["verdict"])}{excel_row}="outside-rule",'
-                  f'({compared}-{rec})/ABS({rec})*100,"")')
+                  f'({compared_cell}-{rec})/ABS({rec})*100,"")')
         ws.write_formula(row, COL["margin %"], margin, formats.margin,
                          finding["margin_percent"] if finding["margin_percent"] is not None
                          else "")
     ws.write(row, COL["kind"], claim.kind, formats.plain)
-    ws.write(row, COL["basis"], _basis(claim), formats.wrap)
-    ws.write(row, COL["note"], claim.note, formats.wrap)
+    ws.write(row, COL["basis"], _basis(finding), formats.wrap)
+    ws.write(row, COL["note"], finding["note"], formats.wrap)
     texts = {"section": claim.section, "claim": claim.claim,
-             "derived: what": finding["derived_what"], "basis": _basis(claim),
-             "note": claim.note}
+             "quote (line, offset)": _quote(finding),
+             "derived: what": finding["derived_what"], "basis": _basis(finding),
+             "tolerance: why": finding["tolerance_reason"], "note": finding["note"]}
     height = max(_lines(text, COLUMNS[COL[label]][1]) for label, text in texts.items())
     ws.set_row(row, LINE_HEIGHT * height + 2)
 

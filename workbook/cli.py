@@ -4,6 +4,7 @@ Every user error is a CrankbookError, caught here once and printed as one line
 (exit code 2); nothing is written when a build fails.
 """
 import argparse
+import os
 import sys
 import time
 
@@ -185,12 +186,14 @@ def _audit(args):
     output = Path(args.output or f"output/audit-{target}.xlsx")
     if output.suffix.lower() != ".xlsx":
         raise BuildOptionError(f"-o {output}: the audit workbook must end in .xlsx")
-    # bad --sources is refused before anything is written
-    problems = _source_problems(documents, Path(args.sources)) if args.sources else None
-    write_audit_workbook(documents, output)
-    write_markdown(documents, output.with_suffix(".md"))
+    # bad --sources is refused before anything is written; without it the seed texts
+    # may come from $CRANKBOOK_SEEDS (they are needed to count the coverage)
+    sources = args.sources or os.environ.get("CRANKBOOK_SEEDS") or None
+    problems = _source_problems(documents, Path(sources)) if sources else None
+    write_audit_workbook(documents, output, sources)
+    write_markdown(documents, output.with_suffix(".md"), sources)
     if args.json:
-        write_json(documents, args.json)
+        write_json(documents, args.json, sources)
     for document in documents:
         findings = document.findings()
         counts = {s: sum(f["status"] == s for f in findings) for s in claims.VERDICTS}
@@ -202,8 +205,8 @@ def _audit(args):
         return 0
     for document_key, key, why in problems:
         print(f"{document_key}: {key}: {why}")
-    print("sources: " + (f"{len(problems)} reported number(s) not found at their line"
-                         if problems else "every reported number is printed at its line"))
+    print("sources: " + (f"{len(problems)} quote(s) or number(s) not found where they are said to be"
+                         if problems else "every quote and reported number is where it is said to be"))
     return 1 if problems else 0
 
 
@@ -232,17 +235,29 @@ def _audit_workbook(path):
     if recalculated:
         print(f"{path} was saved without calculated values: recalculated in LibreOffice first")
     if rule_message:
-        print(f"{path}: its inputs break a rule ({rule_message}); every result should be blank")
+        print(f"{path}: its inputs break a rule: {rule_message}")
     if not findings:
         print(f"{path}: every q_ cell agrees with the recomputation from its p_ cells "
-              f"({spec.key} workbook)")
-        return 0
+              f"({_what_it_is(path, spec)})" if not rule_message else
+              f"{path}: the results that hang on those inputs are blank, as they should be; "
+              f"every other q_ cell agrees ({_what_it_is(path, spec)})")
+        return 1 if rule_message else 0
     print(f"{path}: {len(findings)} cell(s) disagree with the recomputation from the p_ cells:")
     for f in findings:
         expected = "" if f.expected != f.expected else f" (expected {f.expected:.6g})"
         shown = "" if f.stored is None and f.expected != f.expected else f": {f.stored!r}"
         print(f"  {f.address:<28} {f.name:<36} {f.problem}{shown}{expected}")
     return 1
+
+
+def _what_it_is(path, spec):
+    """'course_design workbook' or 'an answer key of assignment course-design (…)'."""
+    from crankbook.workbook_reader import defined_ranges, open_book, role_of
+    book = open_book(path)
+    role, assignment = role_of(book, defined_ranges(book))
+    if role == "key":
+        return f"{spec.key} workbook, an answer key of assignment {assignment}"
+    return f"{spec.key} workbook"
 
 
 def _assign(args):

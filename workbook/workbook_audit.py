@@ -67,12 +67,15 @@ def _audit(original, values_path, shown, recalculated):
     expected, floors = expected_values(spec, values, tables, grids)
     rule_message = None
     if expected is None:
-        from crankbook import params
-        from crankbook.errors import CrankbookError
-        try:
-            params.validate(spec, dict(values), tables=tables, grids=grids)
-        except CrankbookError as error:
-            rule_message = str(error)
+        # inputs that break a rule: one finding (the rule, and the status cell's words);
+        # the results are blank by design, and the cells that do not hang on the broken
+        # inputs (the crank angles, the checks themselves) still must agree
+        rule_message = _broken_rule(spec, values, tables, grids)
+        status = ranges.get("q_input_status")
+        words = cells(book, status)[0] if status is not None else None
+        if words:
+            rule_message += f"; the workbook's status cell says: {words}"
+        expected, floors = _unchecked(spec, values, tables, grids), {}
     findings = []
     for q in spec.quantities():
         name = f"q_{q.key}"
@@ -89,12 +92,8 @@ def _audit(original, values_path, shown, recalculated):
         stored_cells = cells(book, found)
         written = formulas(formula_book, formula_ranges[name]) if name in formula_ranges \
             else [False] * len(stored_cells)
-        if expected is None:
-            want = np.full(len(stored_cells), math.nan)
-            allowed = np.zeros(len(stored_cells))
-        else:
-            want = np.atleast_1d(np.asarray(expected[q.key], dtype=float)).ravel()
-            allowed = allowances(want, floors.get(q.key, 0.0))
+        want = np.atleast_1d(np.asarray(expected.get(q.key, math.nan), dtype=float)).ravel()
+        allowed = allowances(want, floors.get(q.key, 0.0))
         constant = q.formula is None
         for i, (address, stored, formula) in enumerate(zip(_addresses(found), stored_cells,
                                                             written)):
@@ -106,7 +105,7 @@ def _audit(original, values_path, shown, recalculated):
                 findings.append(CellFinding(address, name, stored, target,
                                             f"error value {stored}"))
             elif stored is None or stored == "":
-                if np.isfinite(target):
+                if np.isfinite(target) and rule_message is None:
                     findings.append(CellFinding(address, name, stored, target,
                                                 "no stored value (saved without calculation?)"))
             elif isinstance(stored, bool) or not isinstance(stored, (int, float)):
@@ -118,3 +117,25 @@ def _audit(original, values_path, shown, recalculated):
                 findings.append(CellFinding(address, name, stored, target,
                                             "value differs from the recomputation"))
     return spec, findings, recalculated, rule_message
+
+
+def _broken_rule(spec, values, tables, grids):
+    from crankbook import params
+    from crankbook.errors import CrankbookError
+    try:
+        params.validate(spec, dict(values), tables=tables, grids=grids)
+    except CrankbookError as error:
+        return str(error)
+    return "a rule is broken"
+
+
+def _unchecked(spec, values, tables, grids):
+    """The numpy results of inputs that break a rule, quantity by quantity, where they
+    can be computed at all (NaN elsewhere): what a cell that still shows a value
+    must agree with."""
+    from crankbook.evaluate import evaluate
+    try:
+        with np.errstate(all="ignore"):
+            return dict(evaluate(spec, values, tables, grids))
+    except Exception:            # noqa: BLE001 — impossible geometry may raise anywhere
+        return {}

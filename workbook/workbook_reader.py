@@ -17,7 +17,8 @@ from crankbook.errors import CrankbookError, WorkbookReadError
 from crankbook.evaluate import MAX_ROWS
 from crankbook.xlsx_reader import Unreadable, XlsxBook
 from crankbook.spec_loader import load as load_spec, template_names
-from crankbook.writer.build import PROPERTY_PRESET, PROPERTY_STEPS, PROPERTY_TEMPLATE
+from crankbook.writer.build import (PROPERTY_ASSIGNMENT, PROPERTY_PRESET, PROPERTY_ROLE,
+                                    PROPERTY_STEPS, PROPERTY_TEMPLATE)
 
 CELL_REF = re.compile(r"\$?([A-Z]{1,3})\$?([0-9]{1,7})\Z")
 MAX_NAME_CELLS = (MAX_ROWS + 1) * 64
@@ -263,11 +264,29 @@ def grid_rows_of(spec, ranges, grids):
     return rows
 
 
+def role_of(book, ranges):
+    """(role, assignment): what crankbook wrote the file as — "workbook", "key" (an
+    answer key) or "student" (a student's answer workbook: a_ names, no q_ names) —
+    and the assignment of a key or student workbook."""
+    role = _property(book, PROPERTY_ROLE)
+    if role is None:             # written before the property: tell by the names
+        has_answers = any(n.startswith("a_") for n in ranges)
+        role = "student" if has_answers and not any(n.startswith("q_") for n in ranges) \
+            else "workbook"
+    return role, _property(book, PROPERTY_ASSIGNMENT)
+
+
 def load_named(path):
     """(book, spec, template, ranges, values, tables, grids, sizes, grid rows)."""
     from crankbook.evaluate import axis_sizes
     book = open_book(path)
     ranges = defined_ranges(book)
+    role, assignment = role_of(book, ranges)
+    if role == "student":
+        raise WorkbookReadError(
+            f"{path}: a crankbook student workbook (assignment {assignment or '?'}): it holds "
+            f"a student's answers (a_ names), not results; grade it against its key with "
+            f"'crankbook grade'")
     template = template_of(book, ranges)
     spec = load_spec(template)
     values, tables, grids = read_inputs(book, spec, ranges, path)

@@ -24,6 +24,8 @@ def given_trace(assignment, spec, values):
 
 def key_results(assignment, spec, preset, values):
     """The Results the key workbook holds for these parameters."""
+    # the key says what it is (crankbook audit names it); never whose it is
+    preset = dict(preset, role="key", assignment=assignment.key)
     trace = given_trace(assignment, spec, values)
     if trace is None:
         return results_for(spec, preset, values)

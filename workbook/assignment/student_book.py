@@ -9,7 +9,7 @@ from xlsxwriter.utility import xl_rowcol_to_cell
 
 from crankbook.atomic import atomic_path
 from crankbook.formulas import quote_sheet
-from crankbook.writer.build import FIXED_TIME
+from crankbook.writer.build import FIXED_TIME, PROPERTY_ASSIGNMENT, PROPERTY_ROLE, PROPERTY_TEMPLATE
 from crankbook.writer.layout import unit_text
 from crankbook.writer.print_setup import landscape_page
 from crankbook.writer.styles import Styles
@@ -49,6 +49,10 @@ def _write(filename, assignment, spec, student, values, given, lang, rows):
                                           "strings_to_urls": False})
     book.set_properties({"title": assignment.name(lang), "author": "crankbook",
                          "created": FIXED_TIME})
+    # what the file is, never whose it is (the student's own sheet names them)
+    book.set_custom_property(PROPERTY_ROLE, "student")
+    book.set_custom_property(PROPERTY_ASSIGNMENT, assignment.key)
+    book.set_custom_property(PROPERTY_TEMPLATE, spec.key)
     styles = Styles(book)
     names = {}
 

@@ -32,6 +32,8 @@ PROPERTY_TEMPLATE = "crankbook_template"
 PROPERTY_VERSION = "crankbook_version"
 PROPERTY_PRESET = "crankbook_preset"
 PROPERTY_STEPS = "crankbook_steps"
+PROPERTY_ROLE = "crankbook_role"          # "workbook", "key" (an answer key) or "student"
+PROPERTY_ASSIGNMENT = "crankbook_assignment"
 
 
 def check_output(path, suffix=".xlsx"):
@@ -80,6 +82,9 @@ def _write(build, layout, filename):
     book.set_custom_property(PROPERTY_VERSION, __version__)
     book.set_custom_property(PROPERTY_PRESET, build.preset["name"])
     book.set_custom_property(PROPERTY_STEPS, json.dumps(build.steps, sort_keys=True))
+    book.set_custom_property(PROPERTY_ROLE, build.preset.get("role", "workbook"))
+    if build.preset.get("assignment"):
+        book.set_custom_property(PROPERTY_ASSIGNMENT, build.preset["assignment"])
     book.set_calc_mode("auto")
     styles = Styles(book)
     write_parameters_sheet(book, layout, values, results, build.preset, styles)
