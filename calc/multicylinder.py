@@ -367,6 +367,23 @@ def unbalanced(amplitude_x, amplitude_y, scale):
     return np.where(np.hypot(amplitude_x, amplitude_y) > NEGLIGIBLE * scale, 1.0, 0.0)
 
 
+def above_noise(value, scale, arm=1.0):
+    """``value``, or 0 where it is at most the noise floor 1e-6·scale·arm: a balanced
+    order shows as 0, not as rounding noise [unit of value].
+
+    Parameters
+    ----------
+    value : array_like
+        Amplitudes of one order each [N or N·m].
+    scale : float
+        One cylinder's first-order force (m_j + m_r)·r·ω² [N].
+    arm : float
+        A length that makes the floor a moment [m]: the crank radius (1 for forces).
+    """
+    value = np.asarray(value, dtype=float)
+    return np.where(value <= NEGLIGIBLE * scale * arm, 0.0, value)
+
+
 def first_order_scale(reciprocating_mass, rotating_mass, crank_radius, angular_velocity):
     """(m_j + m_r)·r·ω²: the size a free first-order force of one cylinder would have [N]."""
     return (reciprocating_mass + rotating_mass) * crank_radius * angular_velocity ** 2

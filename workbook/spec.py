@@ -90,8 +90,17 @@ class Axis:
     # an axis of one item or as many as ``aligned`` (a pressure per operating point, or
     # one for all): a formula of item k of ``aligned`` means item k here, or item 1
     aligned: str | None = None
+    # items named by a value rather than a number (an order k): the quantity that holds
+    # each item's value and the row label's pattern per language ("k = {value:g}")
+    value_key: str | None = None
+    value_label_zh: str = ""
+    value_label_en: str = ""
 
-    def label(self, lang, number):
+    def label(self, lang, number, value=None):
+        """"Cylinder 3", or for an axis named by values "k = 2" / "2 阶"."""
+        if self.value_key and value is not None:
+            pattern = self.value_label_zh if lang == "zh" else self.value_label_en
+            return pattern.format(value=value)
         return f"{self.label_zh if lang == 'zh' else self.label_en} {number}"
 
 
@@ -224,6 +233,16 @@ class Sheet:
     grid: str | None = None       # series sheets: their grid
     axis: str | None = None       # items sheets: their axis
     print_step: float | None = None  # print every k-th row so a report stays short
+    report: tuple | None = None   # series sheets: the columns the results table prints
+                                  # (None: the columns its charts plot)
+
+    def report_columns(self):
+        """The keys of this series sheet's columns on the printed results table."""
+        keys = [q.key for q in self.columns]
+        if self.report is not None:
+            return [k for k in keys if k in self.report]
+        plotted = {k for c in self.charts for k in (*c.y, c.x) if k}
+        return [k for k in keys if k in plotted]
 
 
 @dataclass
@@ -247,6 +266,7 @@ class WorkbookSpec:
     highlights: tuple = ()
     key_data: tuple = ()          # inputs and results shown at the top of the Summary
     print_step: float | None = None   # series tables print every print_step (rows between grouped)
+    notes: tuple = ()             # Summary warnings: ({"when_nonzero": key, "zh", "en"}, …)
 
     def __post_init__(self):
         self.parameter = {p.key: p for p in self.parameters}

@@ -24,6 +24,11 @@ def check(spec):
     known = set(spec.parameter) | set(spec.table_column) | set(spec.quantity) | \
         set(spec.constant)
     homes = {s.grid for s in spec.sheets if s.kind == "series"}
+    for sheet in spec.sheets:
+        stray = set(sheet.report or ()) - {q.key for q in sheet.columns}
+        if stray:
+            raise SpecError(spec.file, sheet.key, f"report names no column of the sheet: "
+                                                  f"{', '.join(sorted(stray))}")
     for g in spec.grids:
         if g.key not in homes:
             raise SpecError(g.source, g.key, "grid is on no sheet")

@@ -317,7 +317,9 @@ def build(data, file):
     axes = [Axis(key=a["key"], zh=a["zh"], en=a["en"], label_zh=a.get("label_zh", a["zh"]),
                  label_en=a.get("label_en", a["en"]), size_calc=a.get("size_calc"),
                  size_args=dict(a.get("size_args", {})), max=a.get("max", 64),
-                 product=tuple(a.get("product", ())), aligned=a.get("aligned"))
+                 product=tuple(a.get("product", ())), aligned=a.get("aligned"),
+                 value_key=a.get("value_key"), value_label_zh=a.get("value_label_zh", ""),
+                 value_label_en=a.get("value_label_en", ""))
             for a in data["axis"]]
     constants = [Constant(key=c["key"], unit=c["unit"], value=float(c["value"]),
                           zh=c.get("zh", ""), en=c.get("en", "")) for c in data["constant"]]
@@ -376,7 +378,8 @@ def build(data, file):
         sheets.append(Sheet(key=s["key"], zh=s["zh"], en=s["en"],
                             title_zh=s.get("title_zh", s["zh"]), title_en=s.get("title_en", s["en"]),
                             kind=kind, columns=columns, charts=tuple(charts), grid=grid,
-                            axis=s.get("axis"), print_step=s.get("print_step")))
+                            axis=s.get("axis"), print_step=s.get("print_step"),
+                            report=tuple(s["report"]) if "report" in s else None))
     scalars = [_quantity(_resolve_args(e), "scalar") for e in scalar_entries]
     results = [_quantity(r, "result") for r in data["result"]]
     rules = [_quantity(dict(r, key=f"check_{r['key']}", unit=r.get("unit", "-"), guard=False),
@@ -390,6 +393,6 @@ def build(data, file):
         input_tables=tables, rules=rules, scalars=scalars, sheets=sheets, results=results,
         summary=_summary_quantities(by_grid, summary_series),
         highlights=tuple(head.get("highlights", ())), key_data=tuple(head.get("key_data", ())),
-        print_step=head.get("print_step"))
+        print_step=head.get("print_step"), notes=tuple(head.get("notes", ())))
     check(spec)
     return spec

@@ -17,6 +17,7 @@ from crankbook import __version__
 from crankbook.atomic import atomic_path
 from crankbook.errors import BuildOptionError
 from crankbook.writer.charts import write_charts_sheet
+from crankbook.writer.report_sheet import write_report_sheet
 from crankbook.writer.items_sheet import write_items_sheet
 from crankbook.writer.layout import Layout
 from crankbook.writer.parameters_sheet import write_parameters_sheet
@@ -86,7 +87,7 @@ def _write(build, layout, filename):
     if build.preset.get("assignment"):
         book.set_custom_property(PROPERTY_ASSIGNMENT, build.preset["assignment"])
     book.set_calc_mode("auto")
-    styles = Styles(book)
+    styles = Styles(book, lang)
     write_parameters_sheet(book, layout, values, results, build.preset, styles)
     if spec.summary or spec.results:
         write_summary_sheet(book, layout, values, results, styles)
@@ -99,6 +100,7 @@ def _write(build, layout, filename):
             write_items_sheet(book, plans[sheet_spec.key], layout, values, results, styles)
         else:
             write_series_sheet(book, sheet_spec, layout, {**results, **table_values}, styles)
+    write_report_sheet(book, layout, {**results, **table_values}, styles)
     write_charts_sheet(book, layout, {**results, **table_values}, styles)
     layout.define_all()
     for name in sorted(layout.defined_names):

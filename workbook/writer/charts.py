@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from xlsxwriter.utility import xl_range_abs
+from xlsxwriter.utility import xl_range_abs, xl_rowcol_to_cell
 
 from crankbook.formulas import quote_sheet
 from crankbook.writer.layout import FIRST_ROW, label, unit_text
@@ -31,33 +31,143 @@ def _ranges(layout, key, results, short=False):
              locator.column_range(key, col=place.col + i)) for i in range(place.count)]
 
 
-def _nice(value):
-    """A round number ≥ value (1, 2, 2.5 or 5 × 10^k)."""
-    if value <= 0 or not math.isfinite(value):
+FRAME_INTERVALS = 6        # a frame spans about this many steps of a round size
+# An equal-axis chart: its inner plot area is a square of the chart's pixels (title
+# above, legend at the right), anchored inside one column wider than the chart, so
+# no engine's column widths (font metrics) can stretch it.
+CHART_SIZE = {"width": 760, "height": 430}
+EQUAL_AXES_SIZE = {"width": 680, "height": 540}
+PRINTED_SIZE = {"width": 700, "height": 450}       # the Charts sheet: two to a portrait page
+
+
+def equal_axes_plot(size):
+    """The inner plot area of an equal-axis chart of ``size``: a square of pixels."""
+    side = 0.72 * size["height"]
+    return {"x": 0.12, "y": 0.13, "width": side / size["width"], "height": side / size["height"]}
+FRAME_LABEL = {"zh": "图框（两轴同比例，随数据变化）", "en": "chart frame (one scale on both axes, follows the data)"}
+
+
+def nice_step(span):
+    """The round step (1, 2, 5 × 10^k) at or above span/FRAME_INTERVALS: the same
+    arithmetic as the frame's formula, so the cached value is the one engines compute."""
+    if not span > 0:
         return 1.0
-    power = 10 ** math.floor(math.log10(value))
-    for step in (1, 2, 2.5, 5, 10):
-        if step * power >= value:
-            return step * power
-    return 10 * power
+    raw = span / FRAME_INTERVALS
+    power = 10.0 ** math.floor(math.log10(raw))
+    ratio = raw / power
+    return power * (1 if ratio <= 1 else 2 if ratio <= 2 else 5 if ratio <= 5 else 10)
 
 
-def _equal_bounds(xs, ys):
-    """Axis limits with one scale on both axes (a circle stays a circle)."""
-    x = np.concatenate([np.ravel(v) for v in xs]) if xs else np.zeros(1)
-    y = np.concatenate([np.ravel(v) for v in ys]) if ys else np.zeros(1)
+def frame_values(xs, ys, unit=None):
+    """(x0, y0, length, span, step): a square frame with corners on multiples of one
+    round step, holding every point and the origin, never with a corner at 0 (so
+    every engine's automatic axes treat x and y alike and keep one scale); the
+    narrower axis is padded by whole steps on both sides.  The step is a whole
+    multiple of the axes' major ``unit`` (fixed when the chart was built; by default
+    the step itself)."""
+    x = np.concatenate([np.ravel(v) for v in xs] + [np.zeros(1)])
+    y = np.concatenate([np.ravel(v) for v in ys] + [np.zeros(1)])
     x, y = x[np.isfinite(x)], y[np.isfinite(y)]
-    if not x.size or not y.size:
-        return None
-    half = _nice(max(np.ptp(x), np.ptp(y), 1e-12) / 2 * 1.1)
-    centre = [(np.max(v) + np.min(v)) / 2 for v in (x, y)]
-    step = half / 2
-    return [(math.floor((c - half) / step) * step, math.floor((c - half) / step) * step + 2 * half)
-            for c in centre]
+    span = max(x.max() - x.min(), y.max() - y.min())
+    step = nice_step(span)
+    if unit is not None:
+        step = unit * max(1, -math.floor(-step / unit))
+    low = [min(math.floor(v.min() / step) * step, -step) for v in (x, y)]
+    high = [max(-math.floor(-v.max() / step) * step, step) for v in (x, y)]
+    length = max(high[0] - low[0], high[1] - low[1])
+    x0, y0 = (lo - math.floor((length - (hi - lo)) / step / 2) * step
+              for lo, hi in zip(low, high))
+    return x0, y0, length, span, step
 
 
-def add_chart(book, chart_spec, sheet_spec, layout, results):
-    """A chart of ``chart_spec`` (y series against x) for a sheet."""
+def frame_anchor(layout, sheet_spec):
+    """(row, col) of the first frame block on a sheet: beside its charts."""
+    name = layout.sheet_name[sheet_spec.key]
+    last_col = max((p.col + p.count - 1 for p in layout.places.values() if p.sheet == name),
+                   default=0)
+    return FIRST_ROW, last_col + 3
+
+
+def _frame_block(layout, sheet_spec, chart_spec):
+    row, col = frame_anchor(layout, sheet_spec)
+    index = [c for c in sheet_spec.charts if c.equal_axes].index(chart_spec)
+    return row + 5 * index, col
+
+
+def write_frame(ws, layout, sheet_spec, chart_spec, x_ranges, y_ranges, xs, ys, styles):
+    """The live frame of an equal-axis chart, beside it on its sheet: its corners are
+    formulas on the plotted ranges (frame_values' arithmetic), so the axes
+    (automatic) follow every edit."""
+    row, col = _frame_block(layout, sheet_spec, chart_spec)
+    x0, y0, length, span, step = frame_values(xs, ys)
+    x = np.concatenate([np.ravel(v) for v in xs] + [np.zeros(1)])
+    y = np.concatenate([np.ravel(v) for v in ys] + [np.zeros(1)])
+    cell = lambda r, c: xl_rowcol_to_cell(r, c, True, True)
+    span_cell, step_cell, length_cell = (cell(row + 1, col + k) for k in (1, 2, 3))
+    lo = lambda ranges: f"MIN(0,{','.join(ranges)})"
+    hi = lambda ranges: f"MAX(0,{','.join(ranges)})"
+    ws.write(row, col, FRAME_LABEL[layout.lang], styles.subtitle)
+    ws.write(row + 1, col, "D, s, L")
+    ws.write_formula(row + 1, col + 1, f"=MAX({hi(x_ranges)}-{lo(x_ranges)},"
+                                       f"{hi(y_ranges)}-{lo(y_ranges)})", None, span)
+    quarter = f"{span_cell}/{FRAME_INTERVALS}"
+    power = f"10^INT(LOG10({quarter}))"
+    nice = (f"IF({span_cell}<=0,1,{power}*IF({quarter}/{power}<=1,1,"
+            f"IF({quarter}/{power}<=2,2,IF({quarter}/{power}<=5,5,10))))")
+    # a whole multiple of the axes' major unit (fixed at the build's step): every
+    # engine then rounds both axes to the same ticks and keeps them equal
+    ws.write_formula(row + 1, col + 2, f"={step!r}*MAX(1,-INT(-{nice}/{step!r}))", None, step)
+    rows = []
+    for offset, (axis, ranges, values, start) in enumerate(
+            (("x", x_ranges, x, x0), ("y", y_ranges, y, y0))):
+        r = row + 2 + offset
+        values = values[np.isfinite(values)]
+        low = min(math.floor(values.min() / step) * step, -step)
+        high = max(-math.floor(-values.max() / step) * step, step)
+        ws.write(r, col, axis)
+        ws.write_formula(r, col + 3, f"=MIN(INT({lo(ranges)}/{step_cell})*{step_cell},"
+                                     f"-{step_cell})", None, low)
+        ws.write_formula(r, col + 4, f"=MAX(-INT(-{hi(ranges)}/{step_cell})*{step_cell},"
+                                     f"{step_cell})", None, high)
+        # the frame's corners: padded by whole steps on both sides to the common length
+        ws.write_formula(r, col + 1, f"={cell(r, col + 3)}-INT(({length_cell}-"
+                                     f"({cell(r, col + 4)}-{cell(r, col + 3)}))/{step_cell}/2)"
+                                     f"*{step_cell}", None, start)
+        ws.write_formula(r, col + 2, f"={cell(r, col + 1)}+{length_cell}", None, start + length)
+        rows.append(r)
+    ws.write_formula(row + 1, col + 3,
+                     "=MAX(" + ",".join(f"{cell(r, col + 4)}-{cell(r, col + 3)}" for r in rows)
+                     + ")", None, length)
+
+
+def _frame_series(layout, sheet_spec, chart_spec, xs, ys):
+    """The invisible two-point series of the frame's corners (with their cache)."""
+    row, col = _frame_block(layout, sheet_spec, chart_spec)
+    sheet = quote_sheet(layout.sheet_name[sheet_spec.key])
+    x0, y0, length, _, _ = frame_values(xs, ys)
+    return {"name": FRAME_LABEL[layout.lang],
+            "categories": f"{sheet}!{xl_range_abs(row + 2, col + 1, row + 2, col + 2)}",
+            "values": f"{sheet}!{xl_range_abs(row + 3, col + 1, row + 3, col + 2)}",
+            "categories_data": [x0, x0 + length], "values_data": [y0, y0 + length],
+            "line": {"none": True}, "marker": {"type": "none"}}
+
+
+def chart_column_width(charts):
+    """Width (characters) of a column that holds the widest of ``charts`` with margin."""
+    widest = max(EQUAL_AXES_SIZE["width"] if c.equal_axes else CHART_SIZE["width"]
+                 for c in charts)
+    return math.ceil((widest + 30) / 7)
+
+
+def _cache(values):
+    """A series' cached points (blank where numpy gives NaN)."""
+    return [float(v) if math.isfinite(v) else None for v in np.ravel(values)]
+
+
+def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=None, size=None):
+    """A chart of ``chart_spec`` (y series against x) for a sheet, every series with
+    its cached points (a viewer that does not recalculate still draws it).  Given the
+    sheet's worksheet ``ws``, an equal-axis chart also writes its live frame there."""
     spec, lang = layout.spec, layout.lang
     sheet = layout.sheet_name[sheet_spec.key]
     x_key = chart_spec.x or sheet_spec.grid
@@ -67,7 +177,7 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
                            {"type": "scatter", "subtype": "straight"})
     x_ranges = _ranges(layout, x_key, results) if chart_spec.x else \
         [(None, f"{quote_sheet(sheet)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}")]
-    curves, xs, ys = 0, [], []
+    curves, xs, ys, used_x, used_y = 0, [], [], [], []
     for number, key in enumerate(chart_spec.y):
         if chart_spec.x_each:             # each curve its own x (a cam's two profiles)
             x_key = chart_spec.x_each[number]
@@ -75,7 +185,14 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
         for index, (name, values) in enumerate(_ranges(layout, key, results,
                                                         short=bool(chart_spec.x))):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
-            series = {"name": name, "categories": x_range, "values": values}
+            y = np.asarray(results[key], dtype=float)
+            y = y if y.ndim == 1 else y[:, index]
+            x = np.asarray(results.get(x_key, []), dtype=float)
+            x = x if x.ndim == 1 else x[:, index]
+            series = {"name": name, "categories": x_range, "values": values,
+                      "values_data": _cache(y)}
+            if x.size == y.size:
+                series["categories_data"] = _cache(x)
             colour = COLOURS[curves % len(COLOURS)]
             if kind == "column":
                 series["fill"] = {"color": colour}
@@ -84,13 +201,13 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
                 series["line"] = {"color": colour, "width": 1.5}
                 series["marker"] = {"type": "none"}
             chart.add_series(series)
-            y = np.asarray(results[key], dtype=float)
-            ys.append(y if y.ndim == 1 else y[:, index])
-            x = np.asarray(results.get(x_key, []), dtype=float)
-            xs.append(x if x.ndim == 1 else x[:, index])
+            xs.append(x)
+            ys.append(y)
+            used_x.append(x_range)
+            used_y.append(values)
             curves += 1
     chart.set_title({"name": label(chart_spec, lang, "title_"),
-                     "name_font": {"size": 11, "bold": True}})
+                     "name_font": {"size": 11, "bold": True}, "overlay": False})
     x_name = label(chart_spec, lang, "x_axis_") or label(x_q, lang)
     x_unit = unit_text(chart_spec.x_unit or x_q.unit)
     x_axis = {"name": f"{x_name} [{x_unit}]", "major_gridlines": GRIDLINES,
@@ -104,28 +221,41 @@ def add_chart(book, chart_spec, sheet_spec, layout, results):
     if chart_spec.log:
         x_axis["log_base"] = y_axis["log_base"] = 10
         x_axis["crossing"] = "min"
-    size = {"width": 760, "height": 430}
+    size = dict(size or (EQUAL_AXES_SIZE if chart_spec.equal_axes else CHART_SIZE))
+    legend = {"position": "bottom"} if curves > 1 else {"none": True}
     if chart_spec.equal_axes:
-        bounds = _equal_bounds(xs, ys)
-        if bounds:
-            (x0, x1), (y0, y1) = bounds
-            x_axis.update({"min": x0, "max": x1, "major_unit": (x1 - x0) / 4})
-            y_axis.update({"min": y0, "max": y1, "major_unit": (y1 - y0) / 4})
-            x_axis["crossing"] = y0
-            y_axis["crossing"] = x0
-        chart.set_plotarea({"layout": {"x": 0.16, "y": 0.12, "width": 0.72, "height": 0.72}})
-        size = {"width": 560, "height": 560}
+        if ws is not None:
+            write_frame(ws, layout, sheet_spec, chart_spec, used_x, used_y, xs, ys, styles)
+        chart.add_series(_frame_series(layout, sheet_spec, chart_spec, xs, ys))
+        # automatic bounds over the frame, one major unit on both (the build's frame
+        # step); the axes cross at the origin, their labels at the edge
+        step = frame_values(xs, ys)[4]
+        # thousands as "k": labels stay short enough to stand upright
+        numbers = {"num_font": {"size": 8}, "major_unit": step, "crossing": 0}
+        if step >= 1000:
+            numbers["num_format"] = '0,"k"'
+        x_axis.update(numbers)
+        y_axis.update(numbers, label_position="low")
+        chart.set_plotarea({"layout": equal_axes_plot(size), "border": {"color": "#595959"}})
+        legend = {"position": "right", "delete_series": [curves]} if curves > 1 else \
+            {"none": True}
     chart.set_x_axis(x_axis)
     chart.set_y_axis(y_axis)
-    chart.set_legend({"position": "bottom"} if curves > 1 else {"none": True})
+    chart.set_legend(legend)
     chart.show_hidden_data()              # rows folded for printing are still plotted
     chart.set_size(size)
     return chart
 
 
+CHART_ROW_PT = 15.75      # explicit row height: a chart's rows cannot change size
+CHARTS_PER_PAGE = 2
+
+
 def write_charts_sheet(book, layout, results, styles):
-    """Every chart of the workbook again on one sheet, two to a printed page: what
-    the series sheets print is their tables."""
+    """Every chart of the workbook again on one sheet, two to a printed portrait page,
+    filling it (the series sheets print their tables).  Each chart sits inside one
+    column wider than it, on rows of a set height, so it prints at its own size
+    whatever the fonts of the machine."""
     from crankbook.writer.print_setup import A4
     spec, lang = layout.spec, layout.lang
     charts = [(sheet, chart) for sheet in spec.sheets for chart in sheet.charts]
@@ -133,19 +263,24 @@ def write_charts_sheet(book, layout, results, styles):
         return
     ws = book.add_worksheet(layout.sheet_name["charts"])
     ws.write(0, 0, "图表 / Charts" if lang == "zh" else "Charts / 图表", styles.title)
-    ws.set_column(0, 25, 8.43)
-    band, breaks = 2, []
+    ws.set_column(0, 0, math.ceil((PRINTED_SIZE["width"] + 12) / 7))
+    row_px = CHART_ROW_PT * 4 / 3
+    chart_rows = math.ceil(PRINTED_SIZE["height"] / row_px)
+    per_chart = chart_rows + 2                       # a caption row and a gap
+    row, breaks = 1, []
     for index, (sheet, chart_spec) in enumerate(charts):
-        chart = add_chart(book, chart_spec, sheet, layout, results)
-        chart.set_size({"width": 560, "height": 540})
-        column = 0 if index % 2 == 0 else 9
-        ws.write(band - 1, column, label(sheet, lang), styles.subtitle)
-        ws.insert_chart(band, column, chart)
-        if index % 2 == 1 or index == len(charts) - 1:
-            band += 30
-            breaks.append(band - 1)       # two charts a page
-    ws.set_h_pagebreaks(breaks[:-1])
+        if index and index % CHARTS_PER_PAGE == 0:
+            breaks.append(row)
+        chart = add_chart(book, chart_spec, sheet, layout, results, size=PRINTED_SIZE)
+        ws.write(row, 0, label(sheet, lang), styles.subtitle)
+        ws.insert_chart(row + 1, 0, chart, {"x_offset": 6, "y_offset": 2,
+                                            "object_position": 3})
+        row += per_chart
+    for r in range(row + 1):
+        ws.set_row(r, CHART_ROW_PT)
+    ws.set_h_pagebreaks(breaks)
     ws.set_paper(A4)
-    ws.set_landscape()
+    ws.set_portrait()
+    ws.set_margins(left=0.4, right=0.4, top=0.5, bottom=0.5)
     ws.fit_to_pages(1, 0)
-    ws.print_area(0, 0, band, 17)
+    ws.print_area(0, 0, row, 0)

@@ -1,9 +1,11 @@
 """An items sheet: one row per item (cylinder, throw, stage, gear, …), the per-item
 inputs (yellow, validated) and the per-item results and checks."""
+import math
+
 from crankbook.writer.charts import add_chart
 from crankbook.writer.layout import FIRST_ROW, label
 from crankbook.writer.parameters_sheet import input_cell, validation
-from crankbook.writer.print_setup import landscape_page
+from crankbook.writer.print_setup import landscape_page, wrapped_title
 from crankbook.writer.scalar_sheet import write_formula_cell
 from crankbook.writer.series_sheet import headers
 
@@ -15,32 +17,48 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     axis = spec.axis[sheet.axis]
     count = layout.axis_sizes[sheet.axis]
     ws = book.add_worksheet(name)
-    ws.write(0, 0, label(sheet, layout.lang, "title_"), styles.title)
-    ws.write(1, 0, label(sheet, layout.other, "title_"), styles.subtitle)
+    last_col = max([layout.places[p.key].col for p in plan.inputs] +
+                   [layout.places[q.key].col for q in plan.columns] + [0])
+    widths = [12] + [COLUMN_WIDTH] * last_col
+    wrapped_title(ws, 0, label(sheet, layout.lang, "title_"), widths, styles.title_wrap)
+    wrapped_title(ws, 1, label(sheet, layout.other, "title_"), widths, styles.subtitle_wrap)
     ws.set_row(FIRST_ROW - 3, 42)
     ws.set_row(FIRST_ROW - 2, 42)
     headers(ws, 0, (label(axis, layout.lang), label(axis, layout.other)), "-", layout, styles,
             width=12)
+    item_values = results[axis.value_key] if axis.value_key in results else [None] * count
     for i in range(count):
-        ws.write(FIRST_ROW + i, 0, axis.label(layout.lang, i + 1), styles.key)
+        ws.write(FIRST_ROW + i, 0, axis.label(layout.lang, i + 1, item_values[i]), styles.key)
     for parameter in plan.inputs:
         col = layout.places[parameter.key].col
         headers(ws, col, (label(parameter, layout.lang), label(parameter, layout.other)),
-                parameter.unit, layout, styles, width=18)
+                parameter.unit, layout, styles, width=COLUMN_WIDTH)
         for i, value in enumerate(values[parameter.key]):
             input_cell(ws, FIRST_ROW + i, col, parameter, value, styles)
             validation(ws, FIRST_ROW + i, col, parameter, layout.lang)
     for quantity in plan.columns:
         col = layout.places[quantity.key].col
         headers(ws, col, (label(quantity, layout.lang), label(quantity, layout.other)),
-                quantity.unit, layout, styles, width=18)
+                quantity.unit, layout, styles, width=COLUMN_WIDTH)
         for i in range(count):
             write_formula_cell(ws, FIRST_ROW + i, col, quantity, layout, results, styles, name,
                                item=i + 1, value=results[quantity.key][i])
-    for index, chart_spec in enumerate(sheet.charts):
-        chart = add_chart(book, chart_spec, sheet, layout, results)
-        ws.insert_chart(FIRST_ROW + count + 2 + index * 24, 1, chart)
+    row = FIRST_ROW + count + 2
+    for chart_spec in sheet.charts:
+        chart = add_chart(book, chart_spec, sheet, layout, results, ws, styles)
+        ws.insert_chart(row, 1, chart)
+        row += math.ceil((chart.height + 20) / 20)
     ws.freeze_panes(FIRST_ROW, 1)
     landscape_page(ws)
     ws.repeat_rows(FIRST_ROW - 3, FIRST_ROW - 1)
+    ws.repeat_columns(0, 0)
+    # the table prints (its charts print on the Charts sheet), as many pages wide as
+    # keep it at about two thirds of its size or more
+    pixels = sum(w * 7 + 5 for w in widths)
+    ws.fit_to_pages(math.ceil(pixels / PAGE_PIXELS), 1)
+    ws.print_area(0, 0, FIRST_ROW + count - 1, last_col)
     return ws
+
+
+COLUMN_WIDTH = 13          # characters; the headers wrap
+PAGE_PIXELS = 1560         # a landscape page's width at about 67 %

@@ -13,7 +13,8 @@ SCALAR_FIRST_ROW = 4     # first value row of a scalars sheet
 OTHER = {"zh": "en", "en": "zh"}
 FIXED_SHEETS = {"parameters": {"zh": "参数", "en": "Parameters"},
                 "summary": {"zh": "汇总", "en": "Summary"},
-                "charts": {"zh": "图表", "en": "Charts"}}
+                "charts": {"zh": "图表", "en": "Charts"},
+                "report": {"zh": "计算结果表", "en": "Results table"}}
 PARAMETER_TABLE_ROW = 6  # header row of the Parameters sheet's input table
 
 

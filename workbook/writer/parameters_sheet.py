@@ -82,7 +82,7 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
     spec, lang = layout.spec, layout.lang
     name = layout.sheet_name["parameters"]
     ws = book.add_worksheet(name)
-    for col, width in enumerate([28, 14, 9, 60, 70, 24]):
+    for col, width in enumerate([28, 16, 9, 60, 70, 24]):
         ws.set_column(col, col, width)
     ws.write(0, 0, f"{label(spec, lang)} — {both(('参数', 'Parameters'), lang)}", styles.title)
     ws.write(1, 0, f"{both(('预设', 'Preset'), lang)}: {preset['name']} — {preset[lang]}",

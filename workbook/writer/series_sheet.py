@@ -4,13 +4,12 @@ import math
 
 
 from crankbook.formulas import ROW, quote_sheet
-from crankbook.writer.charts import add_chart
+from crankbook.writer.charts import add_chart, chart_column_width
 from crankbook.writer.fast_sheet import FastWorksheet
 from crankbook.writer.layout import FIRST_ROW, label, unit_text
-from crankbook.writer.print_setup import landscape_report
+from crankbook.writer.print_setup import NO_PRINT, landscape_report
 
 COLUMN_WIDTH = 15
-CHART_ROWS = 24          # rows a chart takes, stacked at the right of the table
 
 
 def cached(value):
@@ -65,17 +64,25 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
     for table in layout.tables_on(sheet_spec.key):
         _write_input_table(ws, table, layout, results, styles)
     chart_col = last_col + 2
-    for index, chart_spec in enumerate(sheet_spec.charts):
-        chart = add_chart(book, chart_spec, sheet_spec, layout, results)
-        # Anchored below the header rows, which repeat on every printed page.
-        ws.insert_chart(FIRST_ROW + index * CHART_ROWS, chart_col, chart, {"x_offset": 10})
+    row = FIRST_ROW
+    for chart_spec in sheet_spec.charts:
+        chart = add_chart(book, chart_spec, sheet_spec, layout, results, ws, styles)
+        # Anchored below the header rows, which repeat on every printed page, inside
+        # one column wider than any chart: no engine's column widths can stretch it.
+        ws.insert_chart(row, chart_col, chart, {"x_offset": 10, "y_offset": 4})
+        row += math.ceil((chart.height + 20) / 20)
+    if sheet_spec.charts:
+        ws.set_column(chart_col, chart_col, chart_column_width(sheet_spec.charts))
     step = sheet_spec.print_step or (spec.print_step if sheet_spec.grid == spec.grid.key
                                      else None)
     if step:
         _group_between_print_steps(ws, grid, step, layout, styles)
     landscape_report(ws, layout, sheet_spec, len(grid), last_col, chart_col)
-    # the table prints; its charts print on the Charts sheet, two to a page
-    ws.print_area(0, 0, FIRST_ROW + len(grid) - 1, last_col)
+    # The sheet is for the screen: its columns print on the results table at the print
+    # step, its charts on the Charts sheet.  A print area on an empty cell makes Excel
+    # and LibreOffice skip it when the whole workbook prints (select the table and
+    # print the selection to print it alone).
+    ws.print_area(*NO_PRINT)
     return ws
 
 

@@ -1,19 +1,36 @@
 """Cell formats shared by every sheet writer."""
+import re
+
 from crankbook import units
 
 FONT = "Arial"          # Arial falls back to a CJK font for Chinese in Excel and LibreOffice
 
 
+BILINGUAL = re.compile(r'"([^"|]*)\|([^"|]*)"')
+
+
+def in_language(fmt, lang):
+    """A number format whose quoted words hold both languages, "中文|English", with the
+    build's language only (a text shown by a number format cannot spill into the next
+    cell: it must fit its column)."""
+    return BILINGUAL.sub(lambda m: f'"{m.group(1) if lang == "zh" else m.group(2)}"', fmt)
+
+
 class Styles:
     """Creates each xlsxwriter format once per workbook."""
 
-    def __init__(self, book):
+    def __init__(self, book, lang="zh"):
         self._book = book
+        self.lang = lang
         self._cache = {}
         base = {"font_name": FONT, "font_size": 10}
         self.base = base
         self.title = self._make(bold=True, font_size=14)
         self.subtitle = self._make(italic=True, font_color="#555555")
+        self.warning = self._make(bold=True, font_color="#C00000")
+        self.title_wrap = self._make(bold=True, font_size=14, text_wrap=True, valign="top")
+        self.subtitle_wrap = self._make(italic=True, font_color="#555555", text_wrap=True,
+                                        valign="top")
         self.header = self._make(bold=True, text_wrap=True, valign="top", bg_color="#DDE6F0",
                                  border=1)
         self.header_other = self._make(text_wrap=True, valign="top", bg_color="#EEF2F7",
@@ -31,7 +48,7 @@ class Styles:
 
     def number(self, unit, fmt=None, role="output"):
         """Format of a number cell: ``role`` 'input' (yellow, editable) or 'output'."""
-        fmt = fmt or units.number_format(unit)
+        fmt = in_language(fmt or units.number_format(unit), self.lang)
         key = (fmt, role)
         if key not in self._cache:
             props = {"num_format": fmt}

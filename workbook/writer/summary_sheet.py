@@ -14,10 +14,17 @@ def write_summary_sheet(book, layout, values, results, styles):
     name = layout.sheet_name["summary"]
     ws = book.add_worksheet(name)
     rows = layout.summary_rows
-    for col, width in enumerate([56, 44, 9, 14, 16, 14, 16]):
+    for col, width in enumerate([56, 44, 9, 16, 16, 14, 16]):
         ws.set_column(col, col, width)
     ws.write(0, 0, f"{label(spec, lang)} — {'汇总' if lang == 'zh' else 'Summary'}", styles.title)
     ws.write(1, 0, "所有数值均为公式 / every value is a formula", styles.subtitle)
+    # live warnings: a note shows while its parameter is not 0 (e.g. an offset build's
+    # series columns hold for a centric mechanism only)
+    for number, note in enumerate(spec.notes):
+        key, text = note["when_nonzero"], f"{note[lang]} / {note[layout.other]}"
+        shown = text if float(values[key]) != 0 else ""
+        ws.write_formula(2, 2 * number, f'=IF({layout.locator.name(key)}<>0,"{text}","")',
+                         styles.warning, shown)
 
     key_data = spec_key_data(spec)
     if key_data:

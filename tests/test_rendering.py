@@ -1,0 +1,238 @@
+"""Charts and pages as an engineer prints them: every preset in zh and en, converted to
+PDF by LibreOffice.  No "###", the page counts the README states, no plotted point
+outside an explicit axis, equal-axis charts at one scale (measured on the rendered
+page from the tick labels), their live frame following an edit."""
+import re
+import shutil
+import subprocess
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import openpyxl
+import pytest
+
+from crankbook import compute, recalc
+from crankbook.spec_loader import load as load_spec
+from crankbook.toml_files import names_in
+from crankbook.writer.charts import FRAME_LABEL, frame_values
+from tests.conftest import ROOT, named
+
+pytestmark = pytest.mark.libreoffice
+PRESETS = names_in("presets")
+LANGS = ("zh", "en")
+EQUAL_SCALE = 0.03                 # one unit of x as long as one unit of y, within 3 %
+
+
+@pytest.fixture(scope="module")
+def rendered(tmp_path_factory, soffice):
+    """{(preset, lang): (xlsx, pdf)} of every preset's default workbook."""
+    tmp = tmp_path_factory.mktemp("rendered")
+    books = {}
+    for preset in PRESETS:
+        results = compute(preset)
+        for lang in LANGS:
+            path = tmp / f"{preset}__{lang}.xlsx"
+            results.to_excel(path, lang=lang)
+            books[(preset, lang)] = path
+    pdfs = recalc.convert(list(books.values()), tmp / "pdf", target="pdf")
+    return {key: (path, pdf) for (key, path), pdf in zip(books.items(), pdfs)}
+
+
+def _pages(pdf):
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    return text.split("\f")[:-1]
+
+
+def test_no_hashes_on_any_page(rendered):
+    for key, (_, pdf) in rendered.items():
+        assert not any("###" in page for page in _pages(pdf)), key
+
+
+def readme_page_counts():
+    """{preset: (zh pages, en pages)} from the README's table."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = text[text.index("<!-- page counts -->"):text.index("<!-- /page counts -->")]
+    return {m.group(1): (int(m.group(2)), int(m.group(3)))
+            for m in re.finditer(r"^\| `([\w-]+)` \| (\d+) \| (\d+) \|", block, flags=re.M)}
+
+
+def test_page_counts_are_the_readmes(rendered):
+    """The count of every preset, zh and en, is the README's (printed by LibreOffice
+    with its own fonts; Excel paginates alike within a page or two)."""
+    stated = readme_page_counts()
+    assert set(stated) == set(PRESETS)
+    found = {p: tuple(len(_pages(rendered[(p, lang)][1])) for lang in LANGS) for p in PRESETS}
+    assert found == stated
+    assert max(stated["thesis"]) <= 40                 # the default workbook
+
+
+# ------------------------------------------------------------------ chart XML
+NS = {"c": "http://schemas.openxmlformats.org/drawingml/2006/chart"}
+
+
+def _charts(path):
+    """(file name, xml text) of every chart of a workbook."""
+    with zipfile.ZipFile(path) as archive:
+        return [(n, archive.read(n).decode("utf-8")) for n in archive.namelist()
+                if n.startswith("xl/charts/chart") and n.endswith(".xml")]
+
+
+def _cache(element):
+    points = {int(pt.get("idx")): float(pt.find("c:v", NS).text)
+              for pt in element.iterfind(".//c:numCache/c:pt", NS)}
+    count = element.find(".//c:numCache/c:ptCount", NS)
+    return points, int(count.get("val")) if count is not None else 0
+
+
+def test_every_series_carries_its_points_and_stays_inside_its_axes(rendered):
+    from xml.etree import ElementTree
+    for preset in PRESETS:
+        path = rendered[(preset, "zh")][0]
+        for name, xml in _charts(path):
+            root = ElementTree.fromstring(xml)
+            axes = {}
+            for axis in root.iterfind(".//c:valAx", NS):
+                position = axis.find("c:axPos", NS).get("val")
+                bounds = {k: float(e.get("val")) for k in ("min", "max")
+                          if (e := axis.find(f"c:scaling/c:{k}", NS)) is not None}
+                axes["x" if position in ("b", "t") else "y"] = bounds
+            frame, points = None, []
+            for series in root.iterfind(".//c:ser", NS):
+                values = series.find("c:yVal", NS) or series.find("c:val", NS)
+                xs = series.find("c:xVal", NS)
+                y, count = _cache(values)
+                assert count and y, (preset, name, "a series without cached points")
+                x = _cache(xs)[0] if xs is not None else {}
+                title = "".join(series.find("c:tx", NS).itertext())
+                if title in FRAME_LABEL.values():
+                    frame = (x, y)
+                    continue
+                points.append((x, y))
+                for axis, data in (("x", x), ("y", y)):
+                    bounds = axes.get(axis, {})
+                    for value in data.values():
+                        assert bounds.get("min", -np.inf) - 1e-9 <= value <= \
+                            bounds.get("max", np.inf) + 1e-9, (preset, name, axis, value)
+            if frame is not None:
+                (x0, x1), (y0, y1) = [sorted(v.values()) for v in frame]
+                assert x1 - x0 == pytest.approx(y1 - y0), (preset, name)      # a square
+                for x, y in points:
+                    assert all(x0 <= v <= x1 for v in x.values()), (preset, name)
+                    assert all(y0 <= v <= y1 for v in y.values()), (preset, name)
+                units = [float(e.get("val")) for e in root.iterfind(".//c:majorUnit", NS)]
+                assert len(units) == 2 and units[0] == units[1], (preset, name)
+
+
+# ------------------------------------------------------ one scale, as printed
+NUMBER = re.compile(r"^[−-]?\d+(?:\.\d+)?k?$")
+
+
+def _value(text):
+    text = text.replace("−", "-")
+    return float(text[:-1]) * 1000 if text.endswith("k") else float(text)
+
+
+def _words(pdf, page):
+    out = subprocess.run(["pdftotext", "-f", str(page), "-l", str(page), "-bbox", str(pdf),
+                          "-"], capture_output=True, text=True, check=True).stdout
+    return [(float(m.group(1)), float(m.group(2)), float(m.group(3)), float(m.group(4)),
+             m.group(5)) for m in re.finditer(
+        r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="([\d.]+)">([^<]*)</word>',
+        out)]
+
+
+def _scales_below(words, title_y):
+    """(x scale, y scale) in points per unit of the chart titled at ``title_y``: its x
+    labels are the first row of three or more numbers below the title, its y labels
+    the column of numbers sharing a right edge between the title and that row."""
+    numbers = [w for w in words if NUMBER.match(w[4]) and w[1] > title_y]
+    rows = {}
+    for w in numbers:
+        rows.setdefault(round(w[3]), []).append(w)
+    x_row = min((r for r in rows.values() if len(r) >= 3), key=lambda r: r[0][1])
+    x_row.sort(key=lambda w: w[0])
+    columns = {}
+    for w in numbers:
+        if w[3] < x_row[0][1] + 2 and w not in x_row:
+            columns.setdefault(round(w[2]), []).append(w)
+    y_column = max((c for c in columns.values() if len(c) >= 3), key=len)
+    y_column.sort(key=lambda w: w[1])
+
+    def scale(first, last, centre):
+        return abs(centre(last) - centre(first)) / abs(_value(last[4]) - _value(first[4]))
+    return (scale(x_row[0], x_row[-1], lambda w: (w[0] + w[2]) / 2),
+            scale(y_column[0], y_column[-1], lambda w: (w[1] + w[3]) / 2))
+
+
+def test_equal_axis_charts_print_at_one_scale(rendered):
+    checked = 0
+    for preset in PRESETS:
+        spec = load_spec(compute(preset).template)
+        for lang in LANGS:
+            titles = [getattr(c, f"title_{lang}") for s in spec.sheets for c in s.charts
+                      if c.equal_axes]
+            if not titles:
+                continue
+            pdf = rendered[(preset, lang)][1]
+            for number, page in enumerate(_pages(pdf), start=1):
+                if "图表 / Charts" not in page and "Charts / 图表" not in page and \
+                        not any(t[:12] in page for t in titles):
+                    continue
+                words = _words(pdf, number)
+                for title in titles:
+                    tokens = title.split()[:3]
+                    found = [words[i] for i in range(len(words) - len(tokens) + 1)
+                             if [w[4] for w in words[i:i + len(tokens)]] == tokens]
+                    if not found:
+                        continue
+                    x_scale, y_scale = _scales_below(words, found[0][1])
+                    assert x_scale == pytest.approx(y_scale, rel=EQUAL_SCALE), \
+                        (preset, lang, title, x_scale, y_scale)
+                    checked += 1
+    assert checked >= 8
+
+
+# --------------------------------------------------- the frame follows an edit
+def _set_value(path, name, value):
+    """Type ``value`` into the cell of the defined name ``name`` (as a user would) and
+    mark the workbook for recalculation on load."""
+    book = openpyxl.load_workbook(path, read_only=True)
+    sheet, cell = next(iter(book.defined_names[name].destinations))
+    index = book.sheetnames.index(sheet) + 1
+    cell = cell.replace("$", "")
+    with zipfile.ZipFile(path) as archive:
+        items = {n: archive.read(n) for n in archive.namelist()}
+    member = f"xl/worksheets/sheet{index}.xml"
+    xml = items[member].decode()
+    xml, count = re.subn(rf'(<c r="{cell}"[^>]*>)<v>[^<]*</v>', rf"\g<1><v>{value}</v>", xml)
+    assert count == 1, cell
+    items[member] = xml.encode()
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as archive:
+        for member_name, data in items.items():
+            archive.writestr(member_name, data)
+
+
+@pytest.mark.parametrize("speed", [2000, 3000, 5000])
+def test_the_polar_frame_follows_an_edited_speed(tmp_path, soffice, speed):
+    path = tmp_path / f"thesis-{speed}.xlsx"
+    compute("thesis").to_excel(path, lang="en")
+    _set_value(path, "p_speed", speed)
+    after = recalc.convert([path], tmp_path / "lo")[0]
+    values = named(after)
+    tangential = np.array(values["q_crankpin_load_tangential"], dtype=float).ravel()
+    radial = np.array(values["q_crankpin_load_radial"], dtype=float).ravel()
+    book = openpyxl.load_workbook(after, data_only=True)
+    sheet = next(book[n] for n in book.sheetnames
+                 if any(book[n].cell(6, c).value == FRAME_LABEL["en"] for c in range(1, 40)))
+    col = next(c for c in range(1, 40) if sheet.cell(6, c).value == FRAME_LABEL["en"])
+    x0, x1 = sheet.cell(8, col + 1).value, sheet.cell(8, col + 2).value
+    y0, y1 = sheet.cell(9, col + 1).value, sheet.cell(9, col + 2).value
+    assert x1 - x0 == pytest.approx(y1 - y0)                      # square
+    assert x0 <= tangential.min() and tangential.max() <= x1      # never clipped
+    assert y0 <= radial.min() and radial.max() <= y1
+    built = compute("thesis")
+    unit = frame_values([built["crankpin_load_tangential"]], [built["crankpin_load_radial"]])[4]
+    expected = frame_values([tangential], [radial], unit=unit)
+    assert (x0, y0, x1 - x0) == pytest.approx(expected[:3])      # the formula is the arithmetic

@@ -1,0 +1,135 @@
+"""The printed results table: every series column of the workbook at its print step,
+side by side, as formulas on the quantity sheets.
+
+A quantity sheet holds its whole table (every grid row) and its charts for the
+screen; printing twenty one-column tables of a few dozen rows would take twenty
+pages, so the quantity sheets print nothing and this sheet prints their columns
+together, a page of columns at a time (the crank angle repeated at the left of
+every page), the way a thesis prints its table of results.
+"""
+import math
+
+from xlsxwriter.utility import xl_rowcol_to_cell
+
+from crankbook.formulas import quote_sheet
+from crankbook.writer.layout import FIRST_ROW, FIXED_SHEETS, label, unit_text
+from crankbook.writer.print_setup import A4
+
+MAX_ROWS = 49              # printed rows of one block: one page tall
+COLUMN_WIDTH = 12          # characters
+PAGE_WIDTH_PX = 1040       # A4 landscape less the margins, at 96 dpi
+PAGE_HEIGHT_PT = 595 - 72  # A4 landscape less the margins
+NOTE = {"zh": "各计算表的列（公式引用各表），每 {step:g}° 一行；各表的完整数据与图表见各表，图表另见“图表”表。",
+        "en": "The columns of the quantity sheets (formulas on them), one row every {step:g}°; "
+              "each sheet holds its full table and charts, and the Charts sheet the charts."}
+
+
+def printed_rows(grid_values, step):
+    """Indices of the grid rows printed: multiples of ``step`` (at most MAX_ROWS rows;
+    a coarser multiple of the grid's own step when no step is given)."""
+    if step is None:
+        step = grid_values[1] - grid_values[0] if len(grid_values) > 1 else 1.0
+    while True:
+        rows = [i for i, value in enumerate(grid_values)
+                if abs(value / step - round(value / step)) < 1e-9]
+        if len(rows) <= MAX_ROWS:
+            return rows, step
+        step *= 2
+
+
+def _columns(layout, grid):
+    """(header words (lang, other), unit, sheet name, column, values) of every series
+    column on ``grid``'s sheets, in sheet order."""
+    spec, out = layout.spec, []
+    for sheet in spec.sheets:
+        if sheet.kind != "series" or sheet.grid != grid:
+            continue
+        chosen = sheet.report_columns()
+        for quantity in sheet.columns:
+            if quantity.key not in chosen:
+                continue
+            place = layout.places[quantity.key]
+            for offset in range(place.count):
+                words = []
+                for lang in (layout.lang, layout.other):
+                    text = label(quantity, lang)
+                    if quantity.items:
+                        text += f" — {layout.item_label(quantity.items, lang, offset + 1)}"
+                    words.append(text)
+                out.append((words, quantity.unit, place.sheet, place.col + offset,
+                            quantity.key, offset if quantity.items else None))
+    return out
+
+
+def write_report_sheet(book, layout, results, styles):
+    """The results table (see the module docstring); nothing when no sheet is a series."""
+    spec, lang = layout.spec, layout.lang
+    grids = []
+    for sheet in spec.sheets:
+        if sheet.kind == "series" and sheet.grid not in grids:
+            grids.append(sheet.grid)
+    if not grids:
+        return None
+    ws = book.add_worksheet(layout.sheet_name["report"])
+    ws.write(0, 0, f"{FIXED_SHEETS['report'][lang]} / {FIXED_SHEETS['report'][layout.other]}",
+             styles.title)
+    row, widest, tallest = 1, 0, 0
+    for grid in grids:
+        columns = _columns(layout, grid)
+        if not columns:
+            continue
+        grid_q = spec.quantity[grid]
+        master = quote_sheet(layout.sheet_name[layout.master[grid]])
+        step = next((s.print_step for s in spec.sheets
+                     if s.kind == "series" and s.grid == grid and s.print_step), None)
+        if step is None and grid == spec.grid.key:
+            step = spec.print_step
+        values = results[grid]
+        rows, step = printed_rows(list(map(float, values)), step)
+        ws.write(row, 0, NOTE[lang].format(step=step), styles.subtitle)
+        header = row + 1
+        for col, words in ((0, (label(grid_q, lang), label(grid_q, layout.other))),):
+            ws.write(header, col, words[0], styles.header)
+            ws.write(header + 1, col, words[1], styles.header_other)
+            ws.write(header + 2, col, f"[{unit_text(grid_q.unit)}]", styles.unit)
+        angle_format = styles.number(grid_q.unit, grid_q.format)
+        for k, i in enumerate(rows):
+            ws.write_formula(header + 3 + k, 0, f"={master}!{xl_rowcol_to_cell(FIRST_ROW + i, 0)}",
+                             angle_format, float(values[i]))
+        for c, (words, unit, sheet, source_col, key, item) in enumerate(columns, start=1):
+            quantity = spec.quantity[key]
+            fmt = styles.number(unit, quantity.format)
+            ws.write(header, c, words[0], styles.header)
+            ws.write(header + 1, c, words[1], styles.header_other)
+            ws.write(header + 2, c, f"[{unit_text(unit)}]", styles.unit)
+            data = results[key] if item is None else results[key][:, item]
+            for k, i in enumerate(rows):
+                value = float(data[i])
+                ws.write_formula(header + 3 + k, c,
+                                 f"={quote_sheet(sheet)}!{xl_rowcol_to_cell(FIRST_ROW + i, source_col)}",
+                                 fmt, value if math.isfinite(value) else "")
+        ws.set_row(header, 42)
+        ws.set_row(header + 1, 42)
+        widest = max(widest, len(columns))
+        tallest = max(tallest, len(rows))
+        row = header + 3 + len(rows) + 1
+    ws.set_column(0, 0, 10)
+    ws.set_column(1, widest, COLUMN_WIDTH)
+    scale = _scale(tallest + 5)
+    per_page = max(1, int((PAGE_WIDTH_PX * 100 / scale - 75) / (COLUMN_WIDTH * 7 + 5)))
+    per_page = math.ceil(widest / math.ceil(widest / per_page))    # pages alike
+    ws.set_v_pagebreaks(list(range(1 + per_page, widest + 1, per_page)))
+    ws.repeat_columns(0, 0)
+    ws.freeze_panes(0, 1)
+    ws.set_paper(A4)
+    ws.set_landscape()
+    ws.set_margins(left=0.4, right=0.4, top=0.5, bottom=0.5)
+    ws.set_print_scale(scale)
+    ws.print_area(0, 0, row, widest)
+    return ws
+
+
+def _scale(printed_lines):
+    """A print scale that fits a block of ``printed_lines`` rows on one landscape page."""
+    needed = printed_lines * 15 + 2 * 42
+    return max(40, min(100, int(100 * PAGE_HEIGHT_PT / needed)))
