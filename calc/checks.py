@@ -56,8 +56,14 @@ def bore_not_inside(bore, diameter):
 
 
 def throw_missing(check_throw, throw):
-    """1 where the throw to check is beyond the last throw."""
-    return _flag(check_throw > np.max(np.asarray(throw, dtype=float)))
+    """1 where no cylinder is on the throw to check."""
+    return _flag(not np.any(np.asarray(throw, dtype=float) == check_throw))
+
+
+def throw_without_cylinder(throw):
+    """1 where the throws are not numbered 1…n without a gap (a throw with no cylinder)."""
+    numbers = np.asarray(throw, dtype=float)
+    return _flag(np.max(numbers) != np.unique(numbers).size)
 
 
 def band_reversed(fatigue_band_min, fatigue_band_max):

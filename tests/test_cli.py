@@ -20,7 +20,7 @@ BAD_SETS = [
     (["--set", "pressure_source=1"], "pressure_source = 1 needs a measured trace"),
     (["--preset", "nosuch"], "unknown preset 'nosuch'"),
     (["--step", "7"], "must divide 720"),
-    (["--step", "-1"], "the grid step must be ≥ 0.01"),
+    (["--step", "-1"], "the grid step must be ≥ 0.1"),
 ]
 
 

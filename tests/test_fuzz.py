@@ -30,6 +30,21 @@ def run(capsys, *args):
     return code, capsys.readouterr().err
 
 
+def peak_memory(*args, timeout=900):
+    """(exit code, stderr, peak resident MB of crankbook ARGS and its children)."""
+    import json
+    import subprocess
+    import sys
+    probe = ("import json, resource, subprocess, sys; "
+             "done = subprocess.run([sys.executable, '-m', 'crankbook', *sys.argv[1:]], "
+             "capture_output=True, text=True); "
+             "print(json.dumps([done.returncode, done.stderr, "
+             "resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024]))")
+    done = subprocess.run([sys.executable, "-c", probe, *map(str, args)], capture_output=True,
+                          text=True, timeout=timeout)
+    return tuple(json.loads(done.stdout))
+
+
 def tree(path):
     """{relative path: sha256} of every file under ``path``."""
     path = Path(path)
@@ -78,9 +93,12 @@ def test_damaged_submissions_never_cost_the_valid_ones(pack, tmp_path, capsys, s
 
     code, err = run(capsys, "grade", pack, clean, "-o", tmp_path / "clean-results")
     assert code == 0, err
-    code, err = run(capsys, "grade", pack, mixed, "-o", tmp_path / "mixed-results")
+    # the mixed batch as a user runs it: its own process, a time limit (no hang) and
+    # the peak memory of it and its LibreOffice measured
+    code, err, peak = peak_memory("grade", pack, mixed, "-o", tmp_path / "mixed-results")
     assert code == 0, err
     assert "Traceback" not in err
+    assert peak < 1500, f"{peak:.0f} MB"
     assert tree(mixed) == before, "grade changed the submissions"
 
     clean_book, _ = read_gradebook(tmp_path / "clean-results")

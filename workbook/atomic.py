@@ -10,7 +10,7 @@ from pathlib import Path
 from xlsxwriter.exceptions import FileCreateError
 
 from crankbook.errors import OutputPathError
-from crankbook.workspace import sweep, temporary_name
+from crankbook.workspace import lock, sweep, temporary_name
 
 
 def _cannot_write(path, error):
@@ -32,6 +32,11 @@ def atomic_path(path):
         sweep(path.parent, path.name)
     except OSError as error:
         raise _cannot_write(path, error) from None
+    with lock(path):                      # a second run into the same file is refused
+        yield from _written(path, temporary)
+
+
+def _written(path, temporary):
     try:
         try:
             yield str(temporary)

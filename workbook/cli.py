@@ -14,8 +14,24 @@ from crankbook.errors import BuildOptionError, CrankbookError
 LANGS = ("zh", "en")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors in one line, like every other crankbook error."""
+
+    def error(self, message):
+        print(f"crankbook: error: {_one_line(message)} (see '{self.prog} --help')",
+              file=sys.stderr)
+        raise SystemExit(2)
+
+
+def _one_line(message):
+    """A message as one line, every echoed word of input cut to 80 characters."""
+    import re
+    message = " ".join(str(message).split())
+    return re.sub(r"\S{81,}", lambda m: m.group(0)[:60] + "…" + m.group(0)[-12:], message)[:600]
+
+
 def _build_parser():
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="crankbook",
         description="Formula-backed Excel workbooks of crank–connecting-rod mechanisms.")
     parser.add_argument("--version", action="version", version=f"crankbook {__version__}")
@@ -328,7 +344,7 @@ def main(argv=None):
     try:
         return handlers[args.command](args)
     except CrankbookError as error:
-        print(f"crankbook: error: {error}", file=sys.stderr)
+        print(f"crankbook: error: {_one_line(error)}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         return 0

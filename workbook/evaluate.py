@@ -16,7 +16,7 @@ from crankbook import units
 from crankbook.errors import BuildOptionError, LayoutError
 from crankbook.spec import calc_function
 
-MIN_STEP = 0.01          # deg: finer grids describe nothing a 0.01° grid does not
+MIN_STEP = 0.1           # deg: a V8 at 0.1° builds in 1.3 GB; 0.01° needed 3.7 GB
 MAX_ROWS = 100_000       # rows of one grid: beyond that a workbook is no longer usable
 
 
@@ -151,10 +151,12 @@ class Evaluator:
                 result = result.reshape(shape)      # one case of a per-case series: (N, 1)
             result = np.broadcast_to(result, shape).copy()
         else:
-            result = float(np.asarray(result, dtype=float))
+            # numpy scalars: a division by 0 (an underflowed tiny input) gives inf or NaN —
+            # a blank cell — instead of stopping the build
+            result = np.float64(np.asarray(result, dtype=float))
         if q.kind == "rule":
             result = np.where(np.isfinite(result) & (np.asarray(result) == 0), 0.0, 1.0)
-            result = float(result) if result.ndim == 0 else result
+            result = np.float64(result) if result.ndim == 0 else result
         return result
 
     def si(self, key):
@@ -164,17 +166,17 @@ class Evaluator:
         if key in self.overrides:
             result = np.asarray(self.overrides[key], dtype=float) \
                 * units.si_factor(spec.unit_of(key))
-            result = float(result) if result.ndim == 0 else result
+            result = np.float64(result) if result.ndim == 0 else result
         elif key in self.grids:
             result = np.asarray(self.grids[key], dtype=float) * units.si_factor(spec.unit_of(key))
             self.shapes[key] = result.shape
         elif key in spec.constant:
             c = spec.constant[key]
-            result = c.value * units.si_factor(c.unit)
+            result = np.float64(c.value * units.si_factor(c.unit))
         elif key in spec.parameter:
             p = spec.parameter[key]
             raw = self.values[key]
-            result = (np.asarray(raw, dtype=float) if p.axis else float(raw)) \
+            result = (np.asarray(raw, dtype=float) if p.axis else np.float64(raw)) \
                 * units.si_factor(p.unit)
         elif key in spec.table_column:
             column = spec.table_column[key]
@@ -197,7 +199,7 @@ class Evaluator:
             # a grid angle, exactly as the grid holds it (245, not 245.00000000000003)
             points = np.asarray(self.grids[grid], dtype=float)
             value = float(points[np.argmin(np.abs(points - value))])
-        return value
+        return float(value) if np.ndim(value) == 0 else value
 
 
 def evaluate(spec, values, tables=None, grids=None, overrides=None, keys=None):

@@ -166,6 +166,13 @@ def _describe(spec, keys, values, item=None):
     return ", ".join(show(k) for k in keys if k in spec.parameter)
 
 
+def all_digits(value):
+    """A number with every digit it has (2000.0000001, not 2000: a bound's message must
+    show why the value breaks it)."""
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
+
+
 def validate(spec, values, trace_points=0, tables=None, grids=None):
     """Raise the first error a user would need to fix; return the values.
 
@@ -183,7 +190,8 @@ def validate(spec, values, trace_points=0, tables=None, grids=None):
                 where = f" of {spec.axis[parameter.axis].label_en.lower()} {number}" \
                     if parameter.axis else ""
                 shown = parameter.choices[int(item) - 1] if parameter.kind == "choice" and \
-                    float(item).is_integer() and 1 <= item <= len(parameter.choices) else f"{item:g}"
+                    float(item).is_integer() and 1 <= item <= len(parameter.choices) \
+                    else all_digits(item)
                 raise ParameterValueError(f"parameter {parameter.key}{where} = {shown}: must be "
                                           f"{parameter.bounds_text()}")
     sizes = axis_sizes(spec, values)

@@ -43,7 +43,11 @@ def _rows_from_csv(path):
         dialect = csv.Sniffer().sniff(text[:4096], delimiters=",;\t ")
     except csv.Error:
         dialect = csv.excel
-    return [row for row in csv.reader(text.splitlines(), dialect) if any(c.strip() for c in row)]
+    try:
+        return [row for row in csv.reader(text.splitlines(), dialect)
+                if any(c.strip() for c in row)]
+    except csv.Error as error:            # a field beyond the csv module's limit, …
+        raise PressureFileError(f"pressure file {path}: not a readable CSV ({error})") from None
 
 
 def _rows_from_xlsx(path):

@@ -9,10 +9,10 @@ and home directory, removed afterwards whatever happened.
 import os
 import shutil
 import subprocess
-import tempfile
 from pathlib import Path
 
 from crankbook.errors import RecalculationError
+from crankbook.workspace import record_engine, sweep_temporary, temporary_directory
 
 PROFILE_SETTINGS = """<?xml version="1.0" encoding="UTF-8"?>
 <oor:items xmlns:oor="http://openoffice.org/2001/registry"
@@ -58,6 +58,7 @@ def _run(command, timeout, home):
     """Run ``command`` in its own process group; kill the whole group on timeout."""
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                env={**os.environ, "HOME": home}, start_new_session=True)
+    record_engine(home, process.pid)      # a killed run's engine: the next run ends it
     try:
         out, err = process.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
@@ -75,6 +76,7 @@ def _run(command, timeout, home):
 def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
     """Recalculate each of ``paths`` in ``engine`` and save it as ``target`` in
     ``outdir``; return the output paths in order."""
+    sweep_temporary()                     # what killed runs left: engines, copies
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     outputs = [outdir / (Path(p).stem + "." + target.split(":")[0]) for p in paths]
@@ -83,7 +85,7 @@ def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
         if ssconvert is None:
             raise RecalculationError("Gnumeric (ssconvert) is not installed; install Debian's "
                                      "gnumeric")
-        with tempfile.TemporaryDirectory(prefix="crankbook-gnumeric-") as home:
+        with temporary_directory("gnumeric") as home:
             for source, output in zip(paths, outputs):
                 code, out, err = _run([ssconvert, "--recalc", str(source), str(output)],
                                       timeout, home)
@@ -97,7 +99,7 @@ def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
     if soffice is None:
         raise RecalculationError("LibreOffice (soffice) is not installed; install Debian's "
                                  "libreoffice-calc-nogui")
-    with tempfile.TemporaryDirectory(prefix="crankbook-lo-") as profile:
+    with temporary_directory("lo") as profile:
         command = [soffice, f"-env:UserInstallation={make_profile(profile)}", "--headless",
                    "--norestore", "--nolockcheck", "--convert-to", target,
                    "--outdir", str(outdir)] + [str(p) for p in paths]

@@ -4,7 +4,6 @@ The engine recalculates the file (LibreOffice with recalculation forced, or
 Gnumeric); every q_ name read back is compared, by crankbook.compare's one rule,
 with the calc functions evaluated on the workbook's own inputs.
 """
-import tempfile
 
 import pandas as pd
 
@@ -13,6 +12,7 @@ from crankbook.compare import compare, noise_floors
 from crankbook.errors import CrankbookError, WorkbookReadError
 from crankbook.evaluate import evaluate
 from crankbook.workbook_reader import load_named, open_book, defined_ranges, read_results
+from crankbook.workspace import temporary_directory
 
 
 def expected_values(spec, values, tables, grids):
@@ -33,7 +33,7 @@ def verify_workbook(path, engine="libreoffice", workdir=None):
     if not cached:
         raise WorkbookReadError(f"{path}: has no q_ names, so nothing to verify (a student "
                                 f"workbook is checked with 'crankbook grade')")
-    with tempfile.TemporaryDirectory(prefix="crankbook-verify-", dir=workdir) as tmp:
+    with temporary_directory("verify", workdir) as tmp:
         converted = recalc.convert([path], tmp, engine=engine)[0]
         book_after = open_book(converted)
         ranges_after = defined_ranges(book_after)

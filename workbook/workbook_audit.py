@@ -7,7 +7,6 @@ without a value, or a name whose range no longer has the template's shape is
 reported too.  Agreement is crankbook.compare's one rule, as in verify.
 """
 import math
-import tempfile
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,8 +15,8 @@ from openpyxl.utils.cell import get_column_letter
 from crankbook import recalc
 from crankbook.compare import allowances
 from crankbook.verification import expected_values
-from crankbook.workbook_reader import (cells, defined_ranges, expected_shape, formulas,
-                                       load_named, open_book)
+from crankbook.workbook_reader import Range, cells, expected_shape, formulas, load_named
+from crankbook.workspace import temporary_directory
 
 
 @dataclass
@@ -35,35 +34,39 @@ def _addresses(found):
             yield f"'{found.sheet}'!{get_column_letter(c)}{r}"
 
 
-def _saved_without_values(path):
-    """True when formula cells carry no stored results (e.g. written by openpyxl)."""
-    book = open_book(path)
-    for name, found in defined_ranges(book, ("q_",)).items():
-        for has_formula, value in zip(formulas(book, found), cells(book, found)):
-            if has_formula:
-                return value is None
+def _saved_without_values(book, spec, ranges):
+    """True when the template's formula cells carry no stored results (e.g. written by
+    openpyxl); only the template's own names are looked at, one cell each."""
+    for q in spec.quantities():
+        found = ranges.get(f"q_{q.key}")
+        if found is None or q.formula is None:
+            continue
+        first = Range(found.sheet, found.min_row, found.min_col, found.min_row, found.min_col)
+        if formulas(book, first)[0]:
+            return cells(book, first)[0] is None
     return False
 
 
 def audit_workbook(path, workdir=None):
     """(spec, findings, recalculated, rule_message) for the workbook at ``path``.
 
-    A file saved without values is recalculated in LibreOffice first.  When its
-    inputs break a rule, every q_ cell must be blank (``rule_message`` says why).
+    The file is opened once (one time limit for all of it); a file saved without
+    values is recalculated in LibreOffice first.  When its inputs break a rule, the
+    results that hang on them must be blank (``rule_message`` says why).
     """
-    recalculated = _saved_without_values(path)
+    loaded = load_named(path)
+    book, spec, ranges = loaded[0], loaded[1], loaded[3]
+    recalculated = _saved_without_values(book, spec, ranges)
     if recalculated:
-        with tempfile.TemporaryDirectory(prefix="crankbook-audit-", dir=workdir) as tmp:
+        with temporary_directory("audit", workdir) as tmp:
             converted = recalc.convert([path], tmp)[0]
-            return _audit(path, converted, path, recalculated)
-    return _audit(path, path, path, recalculated)
+            return _audit(loaded, load_named(converted), recalculated)
+    return _audit(loaded, loaded, recalculated)
 
 
-def _audit(original, values_path, shown, recalculated):
-    book, spec, template, ranges, values, tables, grids, sizes, grid_rows = \
-        load_named(values_path)
-    formula_book = open_book(original)
-    formula_ranges = defined_ranges(formula_book)
+def _audit(original, calculated, recalculated):
+    formula_book, formula_ranges = original[0], original[3]
+    book, spec, template, ranges, values, tables, grids, sizes, grid_rows = calculated
     expected, floors = expected_values(spec, values, tables, grids)
     rule_message = None
     if expected is None:

@@ -6,7 +6,6 @@ sheets), so a damaged or hostile file costs one clear error, not the machine.
 """
 import json
 import re
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -17,6 +16,7 @@ from crankbook.errors import CrankbookError, WorkbookReadError
 from crankbook.evaluate import MAX_ROWS
 from crankbook.xlsx_reader import Unreadable, XlsxBook
 from crankbook.spec_loader import load as load_spec, template_names
+from crankbook.workspace import temporary_directory
 from crankbook.writer.build import (PROPERTY_ASSIGNMENT, PROPERTY_PRESET, PROPERTY_ROLE,
                                     PROPERTY_STEPS, PROPERTY_TEMPLATE)
 
@@ -303,7 +303,7 @@ def read_workbook(path, recalculate=False):
     from crankbook.api import Results
     from crankbook.compare import as_array
     if recalculate:
-        with tempfile.TemporaryDirectory(prefix="crankbook-read-") as tmp:
+        with temporary_directory("read") as tmp:
             converted = recalc.convert([path], tmp)[0]
             return _results_of(converted, path, Results, as_array)
     return _results_of(path, path, Results, as_array)

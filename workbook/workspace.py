@@ -8,9 +8,15 @@
   only once the new one is complete.
 * :func:`sweep` — what killed runs left (staging folders, ``.tmp`` files carrying
   their process id) is removed by the next run.
+* :func:`temporary_directory` — a scratch folder in TMPDIR named with this process's
+  id (copies of student workbooks, LibreOffice profiles); :func:`sweep_temporary`
+  removes those of runs that are gone, after killing the spreadsheet process group
+  such a run recorded there.
 """
 import os
+import re
 import shutil
+import signal
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -60,10 +66,18 @@ def sweep(parent, target_name):
             entry.unlink(missing_ok=True)
 
 
+_HELD = set()                          # outputs this process holds the lock of
+
+
 @contextmanager
 def lock(target):
-    """Hold the lock of output ``target`` (a file or directory path) while writing it."""
+    """Hold the lock of output ``target`` (a file or directory path) while writing it
+    (re-entrant: a run holding it may take it again)."""
     target = Path(target)
+    held = os.path.abspath(target)
+    if held in _HELD:
+        yield
+        return
     parent = target.parent if str(target.parent) else Path(".")
     try:
         parent.mkdir(parents=True, exist_ok=True)
@@ -91,12 +105,26 @@ def lock(target):
         break
     else:
         raise BuildCancelled(f"{target}: another crankbook run is writing it")
+    _HELD.add(held)
     try:
         sweep(parent, target.name)
         yield
     finally:
+        _HELD.discard(held)
         claim.unlink(missing_ok=True)
         path.unlink(missing_ok=True)
+
+
+def check_directory(target, option="-o"):
+    """An output directory path, or BuildOptionError naming it and the rule."""
+    text = str(target)
+    if not text.strip():
+        raise BuildOptionError(f"{option} '': give an output directory")
+    target = Path(target)
+    if len(target.name.encode()) > 200 or len(text.encode()) > 3000:
+        raise BuildOptionError(f"{option} {text[:60]}…: the path is too long (at most 200 bytes "
+                               f"of folder name, 3000 of path)")
+    return target
 
 
 @contextmanager
@@ -106,15 +134,19 @@ def staged_directory(target, replace=False):
     ``replace``: an existing ``target`` is replaced (after the new one is complete);
     otherwise an existing non-empty ``target`` is refused.
     """
-    target = Path(target)
+    target = check_directory(target)
     if target.exists() and not target.is_dir():
         raise BuildOptionError(f"-o {target}: is a file; give a directory")
     if target.exists() and not replace and any(target.iterdir()):
         raise BuildOptionError(f"-o {target}: exists and is not empty; give a new directory")
     with lock(target):
         parent = target.parent if str(target.parent) else Path(".")
-        staging = Path(tempfile.mkdtemp(prefix=f".{target.name}{MARK}{os.getpid()}-",
-                                        dir=parent))
+        try:
+            staging = Path(tempfile.mkdtemp(prefix=f".{target.name}{MARK}{os.getpid()}-",
+                                            dir=parent))
+        except OSError as error:
+            raise BuildOptionError(f"-o {target}: cannot write there ({error.strerror})") \
+                from None
         try:
             yield staging
             old = None
@@ -133,3 +165,47 @@ def temporary_name(path):
     """A hidden temporary name beside ``path`` that carries this process's id."""
     path = Path(path)
     return path.parent / f".{path.name}{MARK}{os.getpid()}.tmp"
+
+
+ENGINE_GROUP = "engine.pgid"          # a scratch folder's record of its engine process group
+SCRATCH = re.compile(r"crankbook-[a-z]+-(\d+)-")
+
+
+def temporary_directory(kind, directory=None):
+    """A scratch folder ``crankbook-<kind>-<pid>-…`` removed when the block ends (and
+    by the next run's :func:`sweep_temporary` when this process is killed first)."""
+    return tempfile.TemporaryDirectory(prefix=f"crankbook-{kind}-{os.getpid()}-", dir=directory)
+
+
+def record_engine(folder, process_group):
+    """Note in scratch ``folder`` the process group of the engine working in it."""
+    try:
+        (Path(folder) / ENGINE_GROUP).write_text(str(process_group))
+    except OSError:
+        pass
+
+
+def sweep_temporary(directory=None):
+    """Remove the scratch folders of crankbook runs that are gone — killing first any
+    spreadsheet engine they left running — and return how many were removed."""
+    removed = 0
+    root = Path(directory or tempfile.gettempdir())
+    try:
+        entries = list(root.iterdir())
+    except OSError:
+        return 0
+    for entry in entries:
+        match = SCRATCH.match(entry.name)
+        if not match or not entry.is_dir() or entry.is_symlink():
+            continue
+        pid = int(match.group(1))
+        if pid == os.getpid() or alive(pid):
+            continue
+        for record in entry.rglob(ENGINE_GROUP):
+            try:
+                os.killpg(int(record.read_text().strip()), signal.SIGKILL)
+            except (OSError, ValueError):
+                pass
+        shutil.rmtree(entry, ignore_errors=True)
+        removed += 1
+    return removed

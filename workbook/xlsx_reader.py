@@ -8,6 +8,7 @@ XML entity or DOCTYPE declarations (in UTF-8 or UTF-16), macro and ActiveX parts
 (found by content type and by content, not by file name), and encrypted or legacy
 files.  Every refusal is an Unreadable with the reason in words.
 """
+import io
 import re
 import time
 import zipfile
@@ -20,7 +21,13 @@ MAX_UNPACKED = 100 * 1024 * 1024      # bytes, all parts together
 MAX_PART = 60 * 1024 * 1024           # bytes, one part
 MAX_RATIO = 200                       # per part above 1 MB: unpacked / packed
 MAX_PARTS = 2000
+MAX_SHEETS = 255                      # sheets of one workbook (crankbook's have ~40)
+MAX_NAMES = 20_000                    # defined names
+MAX_CELLS = 2_000_000                 # cells kept from all sheets together (~100 B each)
+MAX_STRINGS = 1_000_000               # shared strings
+MAX_ELEMENTS = 20_000_000             # XML elements parsed from one file
 MAX_DEPTH = 64                        # XML element nesting
+MAX_FORMULA = 2000                    # characters of a formula kept (to look at, not run)
 TIME_LIMIT = 30.0                     # seconds to read one file, on every platform
 OLE_MAGIC = b"\xd0\xcf\x11\xe0"
 MAIN = "http://schemas.openxmlformats.org/spreadsheetml/2006/main"
@@ -61,6 +68,30 @@ def _text_of(data, name):
     return encoded
 
 
+def _value(cell, shared, tag_v, tag_is):
+    """A cell's saved value: a number, a string, a bool, or None."""
+    kind = cell.get("t", "n")
+    v = cell.find(tag_v)
+    text = v.text if v is not None else None
+    if kind == "s":
+        try:
+            return shared[int(text)] if text is not None else None
+        except (ValueError, IndexError):
+            return None
+    if kind in ("str", "e"):
+        return text
+    if kind == "inlineStr":
+        inline = cell.find(tag_is)
+        return "".join(t.text or "" for t in inline.iter(f"{{{MAIN}}}t")) \
+            if inline is not None else None
+    if kind == "b":
+        return text == "1"
+    try:
+        return float(text) if text not in (None, "") else None
+    except ValueError:
+        return None
+
+
 class XlsxBook:
     """The parts of one .xlsx that crankbook reads; see the module docstring."""
 
@@ -68,6 +99,8 @@ class XlsxBook:
         self.path = Path(path)
         self.deadline = time.monotonic() + time_limit
         self.time_limit = time_limit
+        self._elements = 0
+        self._cells = 0
         self._check_file()
         try:
             self.zip = zipfile.ZipFile(self.path)
@@ -149,6 +182,34 @@ class XlsxBook:
             raise Unreadable(f"{name} unpacks to more than {MAX_PART // 2**20} MB")
         return data
 
+    def _stream(self, name, tags):
+        """Each element of ``tags`` in the part, parsed as a stream: the deadline and
+        the element budget are checked inside the part, and every element leaves the
+        tree once it has ended (after its ``tags`` ancestor is read), so memory stays
+        that of the values kept, whatever the part's size."""
+        data = self._part(name)
+        stack, open_targets = [], 0
+        for event, element in ElementTree.iterparse(io.BytesIO(_text_of(data, name)),
+                                                    events=("start", "end")):
+            if event == "start":
+                stack.append(element)
+                if len(stack) > MAX_DEPTH:
+                    raise Unreadable(f"{name} nests XML deeper than {MAX_DEPTH} levels")
+                open_targets += element.tag in tags
+                continue
+            stack.pop()
+            self._elements += 1
+            if self._elements % 20000 == 0:
+                self._tick()
+                if self._elements > MAX_ELEMENTS:
+                    raise Unreadable(f"more than {MAX_ELEMENTS:,} XML elements: not a "
+                                     f"workbook crankbook wrote")
+            if element.tag in tags:
+                open_targets -= 1
+                yield element
+            if open_targets == 0 and stack:
+                stack[-1].remove(element)       # the last child: its siblings are gone
+
     def _xml(self, name, required=True):
         data = self._part(name, required)
         if data is None:
@@ -172,7 +233,11 @@ class XlsxBook:
         targets = {r.get("Id"): (r.get("Target") or "", r.get("Type") or "")
                    for r in rels.iter(f"{{{PACKAGE_REL}}}Relationship")}
         self.sheet_part, self.chart_sheets, self.sheetnames = {}, set(), []
-        for sheet in book.iter(f"{{{MAIN}}}sheet"):
+        sheets = list(book.iter(f"{{{MAIN}}}sheet"))
+        if len(sheets) > MAX_SHEETS:
+            raise Unreadable(f"{len(sheets)} sheets, more than {MAX_SHEETS}: not a workbook "
+                             f"crankbook wrote")
+        for sheet in sheets:
             name = sheet.get("name")
             target, kind = targets.get(sheet.get(f"{{{REL}}}id"), ("", ""))
             self.sheetnames.append(name)
@@ -185,11 +250,15 @@ class XlsxBook:
         for item in book.iter(f"{{{MAIN}}}definedName"):
             if item.get("localSheetId") is None and item.text:
                 self.defined_names[item.get("name")] = item.text
+                if len(self.defined_names) > MAX_NAMES:
+                    raise Unreadable(f"more than {MAX_NAMES:,} defined names: not a workbook "
+                                     f"crankbook wrote")
         self.shared = []
-        strings = self._xml("xl/sharedStrings.xml", required=False)
-        if strings is not None:
-            for si in strings.iter(f"{{{MAIN}}}si"):
-                self.shared.append("".join(t.text or "" for t in si.iter(f"{{{MAIN}}}t")))
+        if "xl/sharedStrings.xml" in self.zip.namelist():
+            for si in self._stream("xl/sharedStrings.xml", {f"{{{MAIN}}}si"}):
+                self.shared.append("".join(t.text or "" for t in si.iter(f"{{{MAIN}}}t"))[:32767])
+                if len(self.shared) > MAX_STRINGS:
+                    raise Unreadable(f"more than {MAX_STRINGS:,} shared strings")
         self.core_properties = {}
         core = self._xml("docProps/core.xml", required=False)
         if core is not None:
@@ -213,45 +282,28 @@ class XlsxBook:
             raise Unreadable(f"sheet {name!r} is a chart sheet, not cells")
         if name not in self.sheet_part:
             raise Unreadable(f"sheet {name!r} does not exist")
+        cells = {}
+        tag_c, tag_v, tag_f, tag_is = (f"{{{MAIN}}}c", f"{{{MAIN}}}v", f"{{{MAIN}}}f",
+                                       f"{{{MAIN}}}is")
         try:
-            root = self._xml(self.sheet_part[name])
+            for cell in self._stream(self.sheet_part[name], {tag_c}):
+                match = CELL.match(cell.get("r") or "")
+                if not match:
+                    continue
+                key = (int(match.group(2)), _column(match.group(1)))
+                formula = cell.find(tag_f)
+                cells[key] = (_value(cell, self.shared, tag_v, tag_is),
+                              False if formula is None else (formula.text or "")[:MAX_FORMULA]
+                              or True)
+                self._cells += 1
+                if self._cells > MAX_CELLS:
+                    raise Unreadable(f"more than {MAX_CELLS:,} cells: not a workbook "
+                                     f"crankbook wrote")
         except ElementTree.ParseError as error:
             raise Unreadable(f"sheet {name!r} is damaged XML ({error})") from None
         except (zlib.error, EOFError, zipfile.BadZipFile, OSError) as error:
             raise Unreadable(f"sheet {name!r}: damaged compressed data "
                              f"({type(error).__name__})") from None
-        cells = {}
-        tag_c, tag_v, tag_f, tag_is = (f"{{{MAIN}}}c", f"{{{MAIN}}}v", f"{{{MAIN}}}f",
-                                       f"{{{MAIN}}}is")
-        for count, cell in enumerate(root.iter(tag_c)):
-            if count % 20000 == 0:
-                self._tick()
-            match = CELL.match(cell.get("r") or "")
-            if not match:
-                continue
-            key = (int(match.group(2)), _column(match.group(1)))
-            kind = cell.get("t", "n")
-            v = cell.find(tag_v)
-            text = v.text if v is not None else None
-            if kind == "s":
-                try:
-                    value = self.shared[int(text)] if text is not None else None
-                except (ValueError, IndexError):
-                    value = None
-            elif kind in ("str", "e"):
-                value = text
-            elif kind == "inlineStr":
-                inline = cell.find(tag_is)
-                value = "".join(t.text or "" for t in inline.iter(f"{{{MAIN}}}t")) \
-                    if inline is not None else None
-            elif kind == "b":
-                value = text == "1"
-            else:
-                try:
-                    value = float(text) if text not in (None, "") else None
-                except ValueError:
-                    value = None
-            cells[key] = (value, cell.find(tag_f) is not None)
         self._sheets[name] = cells
         return cells
 
@@ -263,8 +315,18 @@ class XlsxBook:
 
     def has_formulas(self, sheet, min_row, min_col, max_row, max_col):
         cells = self._sheet(sheet)
-        return [cells.get((r, c), (None, False))[1] for r in range(min_row, max_row + 1)
+        return [bool(cells.get((r, c), (None, False))[1]) for r in range(min_row, max_row + 1)
                 for c in range(min_col, max_col + 1)]
+
+    def formula_texts(self, sheet, min_row, min_col, max_row, max_col):
+        """Each cell's formula (without '='; '' for a shared formula's follower), or None."""
+        cells = self._sheet(sheet)
+        out = []
+        for r in range(min_row, max_row + 1):
+            for c in range(min_col, max_col + 1):
+                formula = cells.get((r, c), (None, False))[1]
+                out.append(None if formula is False else ("" if formula is True else formula))
+        return out
 
     def close(self):
         self.zip.close()

@@ -19,7 +19,7 @@ from crankbook.assignment.roster import read_roster
 from crankbook.assignment.student_book import write_student_workbook
 from crankbook.assignment.variants import draw_class, fingerprint
 from crankbook.csv_safety import csv_text
-from crankbook.workspace import staged_directory
+from crankbook.workspace import check_directory, staged_directory
 from crankbook.writer.build import write_workbook
 
 MANIFEST = "manifest.csv"
@@ -71,6 +71,7 @@ def _manifest_value(value):
 
 def assign(preset, roster_path, seed, lang, outdir, progress=True):
     started = time.perf_counter()
+    outdir = check_directory(outdir)          # before any work: a bad -o is one line now
     spec, base, _ = params.load_preset(preset)
     assignment = templates.for_preset(preset)
     rows, fields = read_roster(roster_path)

@@ -25,7 +25,7 @@ from crankbook.assignment.scoring import (answer_in, answer_number, pair_positio
                                           place_rows, score_item)
 from crankbook.assignment.submissions import discover, prepare, read, recalculate
 from crankbook.errors import AssignmentDirError, CrankbookError
-from crankbook.workspace import staged_directory
+from crankbook.workspace import check_directory, lock, staged_directory, sweep_temporary
 
 KEEP = ("latest", "best")
 
@@ -191,7 +191,15 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
     root = Path(submissions)
     if not root.is_dir():
         raise CrankbookError(f"{root}: no such folder of submissions")
-    output = Path(output) if output else Path(directory) / "results"
+    output = check_directory(output if output is not None else Path(directory) / "results")
+    with lock(output):                 # a second run into the same results is refused now
+        return _grade(assignment, roster, lang, spec, preset, root, output, feedback,
+                      previous, keep, missing_as_zero, progress)
+
+
+def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previous, keep,
+           missing_as_zero, progress):
+    sweep_temporary()                  # scratch copies and engines of killed runs
     say = (lambda text: print(text, file=sys.stderr, flush=True)) if progress else \
         (lambda text: None)
     earlier = rounds.load(previous, assignment) if previous else {}
@@ -229,6 +237,10 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
             g.note("multiple-submissions", "multiple", private=True, count=len(files),
                    chosen=sub.relative, others=_listed([s.relative for s in files
                                                         if s is not sub]))
+        named = sorted({i for s in files for i in s.other_ids})
+        if named:                       # an upload named for someone else stays its owner's
+            g.note("path-names-other", "path_names_other", private=True,
+                   others=", ".join(named))
         if sub.problem:
             g.status, g.problem = "unreadable", sub.problem
             continue
@@ -302,15 +314,36 @@ class _Keys:
 
 
 def _match(subs, by_id):
-    """The roster student of each file: the id its path contains, else the id inside."""
+    """The roster student of each file: the id in the outermost part of its path that
+    names one (the student's LMS folder; the file name where there are no folders).
+    Nothing inside a file, and no deeper folder or file name, can make it another
+    student's: they are only noted (``other_ids``) for the teacher.  A path part that
+    names two students leaves the file unmatched (``ambiguous``)."""
     import re
-    patterns = sorted(((re.compile(rf"(?<![A-Za-z0-9]){re.escape(i)}(?![A-Za-z0-9])"), i)
-                       for i in by_id), key=lambda p: -len(p[1]))
+    from pathlib import PurePath
+    patterns = [(re.compile(rf"(?<![A-Za-z0-9]){re.escape(i)}(?![A-Za-z0-9])"), i)
+                for i in by_id]
     for sub in subs:
-        sub.student_id = next((i for pattern, i in patterns if pattern.search(sub.relative)),
-                              None)
-        if sub.student_id is None and sub.inside_id in by_id:
-            sub.student_id = sub.inside_id
+        sub.student_id, sub.other_ids, sub.ambiguous = None, [], []
+        parts = list(PurePath(sub.relative).parts)
+        parts[-1] = PurePath(parts[-1]).stem
+        for depth, part in enumerate(parts):
+            ids = _ids_in(part, patterns)
+            if len(ids) > 1:
+                sub.ambiguous = ids
+                break
+            if ids:
+                sub.student_id = ids[0]
+                sub.other_ids = sorted({i for deeper in parts[depth + 1:]
+                                        for i in _ids_in(deeper, patterns)} - {ids[0]})
+                break
+
+
+def _ids_in(text, patterns):
+    """The roster ids ``text`` names (a longer id wins over one it contains: s10, s1)."""
+    found = sorted({i for pattern, i in patterns if pattern.search(text)}, key=len,
+                   reverse=True)
+    return [i for i in found if not any(i != j and i in j for j in found)]
 
 
 def _flag(g, sub, by_id, spec):

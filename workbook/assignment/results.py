@@ -138,6 +138,8 @@ def gradebook_rows(assignment, lang, grades, unmatched, missing_as_zero):
         note = say(w, "unmatched", file=sub.relative)
         if sub.inside_id:
             note += say(w, "unmatched_inside", inside=sub.inside_id)
+        if getattr(sub, "ambiguous", None):
+            note += say(w, "unmatched_ambiguous", ids=", ".join(sub.ambiguous))
         if sub.problem:
             note += w["separator"] + say(w, "status_unreadable",
                                          reason=reason_text(sub.problem, lang))

@@ -79,6 +79,10 @@ def _column(header, field):
     return None
 
 
+RESERVED = {"CON", "PRN", "AUX", "NUL", *(f"COM{i}" for i in range(1, 10)),
+            *(f"LPT{i}" for i in range(1, 10))}
+
+
 def id_problem(sid):
     """Why ``sid`` cannot be a student id (None when it can)."""
     if not sid:
@@ -87,6 +91,8 @@ def id_problem(sid):
         return "is longer than 64 characters"
     if sid[0] in ".-=+@":
         return f"starts with {sid[0]!r} (ids become file names and LMS identifiers)"
+    if sid.split(".")[0].upper() in RESERVED:
+        return "is a name Windows reserves for a device (ids become file names)"
     for char in sid:
         if not (char.isalnum() or char in "-_.") or unicodedata.category(char).startswith("C"):
             return (f"holds {char!r}; ids may hold only letters, digits, '-', '_' and '.' "
@@ -122,10 +128,12 @@ def read_roster(path):
         problem = id_problem(sid)
         if problem:
             raise RosterError(f"roster {path}, row {number}: student id {sid[:40]!r} {problem}")
-        if sid in seen:
-            raise RosterError(f"roster {path}, row {number}: student id {sid!r} is also in row "
-                              f"{seen[sid]}")
-        seen[sid] = number
+        if sid.casefold() in seen:             # s1 and S1 are one file on Windows and macOS
+            other, row = seen[sid.casefold()]
+            same = "is also" if other == sid else f"differs only in case from {other!r},"
+            raise RosterError(f"roster {path}, row {number}: student id {sid!r} {same} in row "
+                              f"{row} (ids become file names)")
+        seen[sid.casefold()] = (sid, number)
         row = {"student_id": sid, "name": cells[positions["name"]].strip()}
         row.update({title: cells[i].strip() for i, title in extras})
         rows.append(row)

@@ -12,7 +12,8 @@ grading machine.
 import hashlib
 import os
 import re
-import tempfile
+import stat
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,12 +21,18 @@ from crankbook import recalc
 from crankbook.errors import CrankbookError
 from crankbook.workbook_reader import parse_reference
 from crankbook.xlsx_reader import MAX_FILE, Unreadable, XlsxBook
+from crankbook.workspace import temporary_directory
 
 SUFFIXES = (".xlsx", ".xlsm", ".xls", ".xltx", ".xltm")
 MAX_FILES = 20_000
 MAX_CELLS = 10_000                 # per answer name: far more than any task has
 EXTRA_ROWS = 40                    # rows a student may insert into a table (notes, …)
 RECALC_LIMIT = 60                  # seconds per file in LibreOffice
+RECALC_BUDGET = 300                # seconds of LibreOffice for all of one grade run
+# functions whose value is the grading machine's (its paths, its system) or the
+# network's: an answer using them is graded as its text, never calculated
+ENVIRONMENT = re.compile(r"(?<![A-Za-z0-9_.])(?:_xlfn\.)?(?:CELL|INFO|WEBSERVICE|FILTERXML|RTD|"
+                         r"DDE|FILENAME)\s*\(", re.I)
 
 
 @dataclass
@@ -34,7 +41,9 @@ class Submission:
     relative: str                  # shown to people: relative to the submissions folder
     size: int = 0
     mtime: float = 0.0
-    student_id: str | None = None  # the roster student it belongs to
+    student_id: str | None = None  # the roster student it belongs to (its LMS folder)
+    other_ids: list = field(default_factory=list)   # other roster ids deeper in its path
+    ambiguous: list = field(default_factory=list)   # ids of a path part naming several
     inside_id: str | None = None   # s_student_id in the file
     answers: dict = field(default_factory=dict)
     parameters: dict = field(default_factory=dict)
@@ -66,11 +75,32 @@ def discover(root):
     return found
 
 
+def _not_regular(path, root):
+    """Why ``path`` must not be read — a named pipe (reading it would wait forever), a
+    device, a socket, a link leaving the submissions folder — or None."""
+    status = os.lstat(path)
+    if stat.S_ISLNK(status.st_mode):
+        real, top = os.path.realpath(path), os.path.realpath(root)
+        if os.path.commonpath([real, top]) != top:
+            return "a link that leaves the submissions folder: not read"
+        status = os.stat(path)
+    if stat.S_ISREG(status.st_mode):
+        return None
+    kind = ("a named pipe (FIFO)" if stat.S_ISFIFO(status.st_mode) else
+            "a device" if stat.S_ISCHR(status.st_mode) or stat.S_ISBLK(status.st_mode) else
+            "a socket" if stat.S_ISSOCK(status.st_mode) else "not a file")
+    return f"{kind}, not a regular file: not read"
+
+
 def prepare(paths, root):
     subs = []
     for path in paths:
         sub = Submission(path=path, relative=shown_name(path, root))
         try:
+            sub.problem = _not_regular(path, root)
+            if sub.problem:
+                subs.append(sub)
+                continue
             status = path.stat()
             sub.size, sub.mtime = status.st_size, status.st_mtime
             if sub.size > MAX_FILE:
@@ -101,6 +131,8 @@ def _named_cells(book, prefix, shapes=None, labels=None):
         cells = found.rows * found.cols
         if shapes is None and cells > 1:
             continue                         # only single cells are read (parameters, id)
+        if shapes is not None and key not in shapes:
+            continue                         # not an answer of the task: never read
         limit = shapes.get(key, MAX_CELLS) if shapes is not None else 1
         allowed = limit + EXTRA_ROWS if limit > 1 and found.cols == 1 else max(limit, 1)
         if cells > allowed or cells > MAX_CELLS:
@@ -108,9 +140,15 @@ def _named_cells(book, prefix, shapes=None, labels=None):
                              f"{limit}")
         values = book.values(found.sheet, found.min_row, found.min_col, found.max_row,
                              found.max_col)
-        formulas = book.has_formulas(found.sheet, found.min_row, found.min_col, found.max_row,
-                                     found.max_col)
-        out[key] = list(zip(values, formulas))
+        formulas = book.formula_texts(found.sheet, found.min_row, found.min_col, found.max_row,
+                                      found.max_col)
+        # a formula that asks about the machine (CELL, INFO) or the network is never
+        # calculated here: the answer is its text, shown as typed
+        values = [f"={formula}" if formula and ENVIRONMENT.search(formula) else value
+                  for value, formula in zip(values, formulas)]
+        out[key] = [(value, formula is not None and not
+                     (formula and ENVIRONMENT.search(formula)))
+                    for value, formula in zip(values, formulas)]
         if labels is not None and limit > 1 and found.min_col > 1:
             labels[key] = book.values(found.sheet, found.min_row, 1, found.max_row, 1)
     return out
@@ -161,7 +199,7 @@ def recalculate(subs, shapes, progress=print):
         return
     progress(f"grade: recalculating {len(pending)} file(s) saved without values in "
              f"LibreOffice")
-    with tempfile.TemporaryDirectory(prefix="crankbook-grade-") as tmp:
+    with temporary_directory("grade") as tmp:
         tmp = Path(tmp)
         staged = []
         for number, sub in enumerate(pending):
@@ -169,16 +207,22 @@ def recalculate(subs, shapes, progress=print):
             target.parent.mkdir(exist_ok=True)
             target.write_bytes(sub.path.read_bytes())
             staged.append(target)
+        deadline = time.monotonic() + RECALC_BUDGET
         try:
             outputs = recalc.convert(staged, tmp / "batch",
-                                     timeout=RECALC_LIMIT + 5 * len(staged))
+                                     timeout=min(RECALC_LIMIT + 5 * len(staged), RECALC_BUDGET))
         except CrankbookError:
             outputs = [None] * len(staged)
         for sub, source, output in zip(pending, staged, outputs):
             if output is None or not output.is_file():
+                left = deadline - time.monotonic()
+                if left < 5:                 # hostile files cost the run at most the budget
+                    sub.problem = (f"saved without values, and the run's LibreOffice time "
+                                   f"({RECALC_BUDGET} s) was spent on other files")
+                    continue
                 try:
                     output = recalc.convert([source], tmp / f"one-{source.stem}",
-                                            timeout=RECALC_LIMIT)[0]
+                                            timeout=min(RECALC_LIMIT, int(left)))[0]
                 except CrankbookError as error:
                     sub.problem = f"saved without values, and LibreOffice could not " \
                                   f"recalculate it ({_safe_reason(error)})"

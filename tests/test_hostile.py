@@ -1,0 +1,256 @@
+"""Hostile input, second pass (issue 25): ownership that cannot be forged, only regular
+files read, memory bounded by the file, nothing left behind, one line for every
+teacher-side mistake, no machine details in feedback."""
+import csv
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+import zipfile
+from pathlib import Path
+
+import openpyxl
+import pytest
+
+from crankbook import cli
+from crankbook.workspace import sweep_temporary
+from tests.conftest import run_cli
+from tests.test_assignment import fill, key_answers, write_roster
+
+ROSTER = ["m001", "s001", "s002"]
+
+
+def run(capsys, *args):
+    capsys.readouterr()
+    code = cli.main([str(a) for a in args])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def gradebook(results):
+    with open(results / "gradebook.csv", newline="", encoding="utf-8-sig") as handle:
+        return {r["student_id"]: r for r in csv.DictReader(handle) if r["student_id"]}
+
+
+@pytest.fixture(scope="module")
+def pack(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("hostile-pack")
+    write_roster(tmp / "roster.csv", ROSTER)
+    assert cli.main(["assign", "--roster", str(tmp / "roster.csv"), "--seed", "5",
+                     "-o", str(tmp / "class")]) == 0
+    return tmp / "class"
+
+
+# ------------------------------------------------------------------ ownership
+def test_an_upload_named_for_another_student_stays_its_owners(pack, tmp_path, capsys):
+    subs = tmp_path / "subs"
+    fill(pack / "students" / "s002.xlsx", subs / "s002" / "s002.xlsx", key_answers(pack, "s002"))
+    # m001 uploads a blank task named for s002, into m001's own LMS folder
+    (subs / "m001_attempt_1").mkdir(parents=True)
+    (subs / "m001_attempt_1" / "s002.xlsx").write_bytes(
+        (pack / "students" / "m001.xlsx").read_bytes())
+    # a file that says it is s002's (s_student_id), in s001's folder
+    book = openpyxl.load_workbook(pack / "students" / "s001.xlsx")
+    sheet, ref = next(iter(book.defined_names["s_student_id"].destinations))
+    book[sheet][ref.replace("$", "")] = "s002"
+    (subs / "s001").mkdir()
+    book.save(subs / "s001" / "task.xlsx")
+    os.utime(subs / "m001_attempt_1" / "s002.xlsx", (time.time() + 60, time.time() + 60))
+    code, out, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "results")
+    assert code == 0, err
+    rows = gradebook(tmp_path / "results")
+    assert rows["s002"]["status"] == "graded" and float(rows["s002"]["score"]) == 100
+    assert "multiple" not in rows["s002"]["flags"]
+    assert rows["m001"]["status"] == "graded" and "path-names-other" in rows["m001"]["flags"]
+    assert rows["s001"]["status"] == "graded"
+    feedback = (tmp_path / "results" / "feedback" / "m001.md").read_text(encoding="utf-8")
+    assert "s002" not in feedback                         # the flag is the teacher's
+
+
+def test_a_folder_naming_two_students_matches_neither(pack, tmp_path, capsys):
+    subs = tmp_path / "subs"
+    (subs / "s001-s002").mkdir(parents=True)
+    (subs / "s001-s002" / "x.xlsx").write_bytes((pack / "students" / "s001.xlsx").read_bytes())
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "results")
+    assert code == 0, err
+    rows = gradebook(tmp_path / "results")
+    assert rows["s001"]["status"] == rows["s002"]["status"] == "missing"
+
+
+# -------------------------------------------------------- only regular files
+def test_pipes_devices_and_links_out_cannot_stop_the_batch(pack, tmp_path):
+    subs = tmp_path / "subs"
+    subs.mkdir()
+    os.mkfifo(subs / "s001.xlsx")                             # reading it would wait forever
+    os.symlink("/dev/zero", subs / "s002.xlsx")               # endless bytes, size 0
+    (subs / "m001.xlsx").write_bytes((pack / "students" / "m001.xlsx").read_bytes())
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "results", timeout=120)
+    assert done.returncode == 0, done.stderr
+    rows = gradebook(tmp_path / "results")
+    assert rows["m001"]["status"] == "graded"
+    assert rows["s001"]["status"] == rows["s002"]["status"] == "unreadable"
+    assert "FIFO" in rows["s001"]["status_text"] + rows["s001"].get("notes", "")
+    assert "leaves the submissions folder" in rows["s002"]["status_text"] + \
+        rows["s002"].get("notes", "")
+
+
+# ---------------------------------------------------------- bounded memory
+def _limited(*args, megabytes=700, timeout=300):
+    """crankbook ARGS under an address-space limit (a hostile file must fit in it)."""
+    def limit():
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (megabytes * 2**20, megabytes * 2**20))
+    return subprocess.run([sys.executable, "-m", "crankbook", *map(str, args)],
+                          capture_output=True, text=True, timeout=timeout, preexec_fn=limit)
+
+
+def _add_names(path, target, names, before=None):
+    """Add ``names`` defined names (name -> reference) to an .xlsx, before the first
+    existing one when ``before``."""
+    with zipfile.ZipFile(path) as archive:
+        items = {n: archive.read(n) for n in archive.namelist()}
+    xml = items["xl/workbook.xml"].decode()
+    extra = "".join(f'<definedName name="{n}">{r}</definedName>' for n, r in names.items())
+    if "<definedNames>" in xml:
+        xml = xml.replace("<definedNames>", "<definedNames>" + extra, 1)
+    else:
+        xml = xml.replace("</sheets>", f"</sheets><definedNames>{extra}</definedNames>", 1)
+    items["xl/workbook.xml"] = xml.encode()
+    with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as archive:
+        for name, data in items.items():
+            archive.writestr(name, data)
+
+
+def test_thousands_of_extra_answer_names_cost_nothing(pack, tmp_path):
+    subs = tmp_path / "subs"
+    subs.mkdir()
+    book = openpyxl.load_workbook(pack / "students" / "s001.xlsx")
+    sheet = book.sheetnames[0]
+    names = {f"a_extra_{i}": f"'{sheet}'!$A$1:$CV$100" for i in range(2000)}
+    _add_names(pack / "students" / "s001.xlsx", subs / "s001.xlsx", names)
+    assert (subs / "s001.xlsx").stat().st_size < 200_000
+    done = _limited("grade", pack, subs, "-o", tmp_path / "results")
+    assert done.returncode == 0, done.stderr[-500:]
+    assert gradebook(tmp_path / "results")["s001"]["status"] == "graded"
+
+
+def test_audit_ignores_names_the_template_does_not_have(tmp_path):
+    built = tmp_path / "e.xlsx"
+    assert run_cli("build", "--step", "10", "-o", built).returncode == 0
+    names = {f"q_bogus_{i}": "'参数'!$A$1:$Z$5000" for i in range(300)}
+    _add_names(built, tmp_path / "bomb.xlsx", names)
+    started = time.monotonic()
+    done = _limited("audit", tmp_path / "bomb.xlsx", timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert time.monotonic() - started < 60
+
+
+def test_a_stream_of_tiny_elements_is_refused_within_memory(tmp_path):
+    built = tmp_path / "e.xlsx"
+    assert run_cli("build", "--step", "10", "-o", built).returncode == 0
+    with zipfile.ZipFile(built) as archive:
+        items = {n: archive.read(n) for n in archive.namelist()}
+    sheet = "xl/worksheets/sheet1.xml"
+    xml = items[sheet].decode()
+    items[sheet] = xml.replace("</sheetData>", "<x/>" * 3_000_000 + "</sheetData>").encode()
+    with zipfile.ZipFile(tmp_path / "tiny.xlsx", "w", zipfile.ZIP_DEFLATED) as archive:
+        for name, data in items.items():
+            archive.writestr(name, data)
+    done = _limited("audit", tmp_path / "tiny.xlsx", timeout=120)
+    assert done.returncode in (1, 2) and "Traceback" not in done.stderr
+    assert "MemoryError" not in done.stderr
+
+
+# ------------------------------------------------------- nothing left behind
+def test_the_next_run_removes_a_killed_runs_engine_and_copies(tmp_path):
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait()
+    scratch = tmp_path / f"crankbook-grade-{gone.pid}-abc"
+    scratch.mkdir()
+    (scratch / "00001.xlsx").write_bytes(b"a student's workbook")
+    engine = subprocess.Popen(["sleep", "60"], start_new_session=True)
+    (scratch / "engine.pgid").write_text(str(engine.pid))
+    assert sweep_temporary(tmp_path) == 1
+    assert not scratch.exists()
+    assert engine.wait(timeout=10) == -signal.SIGKILL
+
+
+def test_a_second_run_into_the_same_output_is_refused(tmp_path):
+    target = tmp_path / "same.xlsx"
+    holder = subprocess.Popen(["sleep", "30"])
+    (tmp_path / ".same.xlsx.crankbook.lock").write_text(str(holder.pid))
+    try:
+        done = run_cli("build", "--step", "30", "-o", target)
+        assert done.returncode == 2 and "another crankbook run" in done.stderr
+        assert len(done.stderr.strip().splitlines()) == 1 and not target.exists()
+    finally:
+        holder.kill()
+
+
+# --------------------------------------------- one line for teacher mistakes
+@pytest.mark.parametrize("args,words", [
+    (["assign", "--roster", "{roster}", "-o", "x" * 300], "the path is too long"),
+    (["assign", "--roster", "{roster}", "-o", ""], "give an output directory"),
+    (["grade", "{pack}", "{subs}", "-o", "y" * 300], "the path is too long"),
+    (["build", "--nosuch"], "unrecognized arguments"),
+    (["build", "--set", "bore=2000.0000001"], "2000.0000001: must be"),
+    (["build", "--set", "bore=" + "9" * 400], "…"),
+])
+def test_teacher_side_mistakes_get_one_line(pack, tmp_path, args, words):
+    roster = tmp_path / "roster.csv"
+    write_roster(roster, ["s1"])
+    subs = tmp_path / "subs"
+    subs.mkdir()
+    args = [a.format(roster=roster, pack=pack, subs=subs) for a in args]
+    done = run_cli(*args, cwd=tmp_path)
+    assert done.returncode == 2, done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and "Traceback" not in done.stderr
+    assert words in done.stderr and len(done.stderr) < 700
+
+
+@pytest.mark.parametrize("ids,words", [(["S1", "s1"], "differs only in case"),
+                                       (["CON", "s2"], "reserves for a device")])
+def test_ids_that_collide_as_file_names_are_refused(tmp_path, ids, words):
+    write_roster(tmp_path / "roster.csv", ids)
+    done = run_cli("assign", "--roster", tmp_path / "roster.csv", "-o", tmp_path / "cls")
+    assert done.returncode == 2 and words in done.stderr
+    assert not (tmp_path / "cls").exists()
+
+
+def test_damaged_teacher_files_get_one_line(pack, tmp_path):
+    import shutil
+    copy = tmp_path / "class"
+    shutil.copytree(pack, copy)
+    with open(copy / "manifest.csv", "ab") as handle:
+        handle.write("张三,1\n".encode("gbk"))                # Excel appended GBK bytes
+    subs = tmp_path / "subs"
+    subs.mkdir()
+    done = run_cli("grade", copy, subs, "-o", tmp_path / "results")
+    assert done.returncode == 2 and "manifest.csv" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1
+    trace = tmp_path / "trace.csv"
+    trace.write_text("angle,pressure\n0," + "1" * 200_000 + "\n720,0.1\n")
+    done = run_cli("build", "--pressure", trace, "-o", tmp_path / "t.xlsx")
+    assert done.returncode == 2 and "not a readable CSV" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1
+
+
+# ------------------------------------------------- no machine in feedback
+@pytest.mark.libreoffice
+def test_environment_functions_in_answers_are_shown_as_typed(pack, tmp_path, soffice):
+    subs = tmp_path / "subs"
+    answers = key_answers(pack, "s001")
+    first = next(k for k, v in answers.items() if not isinstance(v, list))
+    fill(pack / "students" / "s001.xlsx", subs / "s001.xlsx", answers, formulas=True)
+    book = openpyxl.load_workbook(subs / "s001.xlsx")
+    sheet, ref = next(iter(book.defined_names[f"a_{first}"].destinations))
+    book[sheet][ref.replace("$", "")] = '=CELL("filename")&INFO("system")'
+    book.save(subs / "s001.xlsx")                   # saved without values: LibreOffice runs
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "results")
+    assert done.returncode == 0, done.stderr
+    feedback = (tmp_path / "results" / "feedback" / "s001.md").read_text(encoding="utf-8")
+    assert "crankbook-" not in feedback and "/tmp" not in feedback
+    assert not re.search(r"\b(Linux|LINUX|pcdos|mac)\b", feedback)
+    assert 'CELL("filename")' in feedback
