@@ -3,10 +3,8 @@ PDF by LibreOffice.  No "###", the page counts the README states, no plotted poi
 outside an explicit axis, equal-axis charts at one scale (measured on the rendered
 page from the tick labels), their live frame following an edit."""
 import re
-import shutil
 import subprocess
 import zipfile
-from pathlib import Path
 
 import numpy as np
 import openpyxl
