@@ -1,6 +1,7 @@
 """Shared fixtures.  The spreadsheet-engine tests fail, never skip, when LibreOffice
 or Gnumeric is missing: the cross-checks are the point of the suite, and ./dev test
 installs both."""
+import copy
 import subprocess
 import sys
 from pathlib import Path
@@ -21,6 +22,34 @@ def _engine(find, what, package):
     return path
 
 
+ENGINE_FIXTURES = {"soffice": "libreoffice", "ssconvert": "gnumeric",
+                   "checked": ("libreoffice", "gnumeric")}
+
+
+@pytest.hookimpl(tryfirst=True)     # before xdist reads the groups into the node ids
+def pytest_collection_modifyitems(items):
+    """Mark every test that reaches a spreadsheet engine (``./dev test --quick`` leaves
+    them out) and group tests for two workers: the users of the shared cross-check
+    fixture together (it is built once per worker), a file with module fixtures on
+    one worker; every other test goes wherever a worker is free."""
+    for item in items:
+        used = set(getattr(item, "fixturenames", ()))
+        for fixture, marks in ENGINE_FIXTURES.items():
+            if fixture in used:
+                for mark in (marks if isinstance(marks, tuple) else (marks,)):
+                    item.add_marker(getattr(pytest.mark, mark))
+        if "checked" in used:
+            item.add_marker(pytest.mark.xdist_group("checked"))
+        elif _module_fixtures(item):        # built once per worker: keep the file together
+            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::")[0]))
+
+
+def _module_fixtures(item):
+    info = getattr(item, "_fixtureinfo", None)
+    return info is not None and any(
+        definitions[-1].scope == "module" for definitions in info.name2fixturedefs.values())
+
+
 @pytest.fixture(scope="session")
 def soffice():
     return _engine(find_soffice, "LibreOffice (soffice)", "libreoffice-calc-nogui")
@@ -38,8 +67,20 @@ def run_cli(*args, cwd=None, timeout=600, stdin=None):
                           input=stdin)
 
 
+_NAMED = {}
+
+
 def named(path, prefixes=("p_", "q_")):
-    """name -> value (one cell) or list of values, of a workbook's defined names."""
+    """name -> value (one cell) or list of values, of a workbook's defined names
+    (remembered per file version: many tests read the same key workbooks)."""
+    stat = Path(path).stat()
+    memo = (str(Path(path).resolve()), stat.st_mtime_ns, stat.st_size, tuple(prefixes))
+    if memo not in _NAMED:
+        _NAMED[memo] = _read_named(path, prefixes)
+    return copy.deepcopy(_NAMED[memo])
+
+
+def _read_named(path, prefixes):
     book = open_book(path)
     out = {}
     for name, found in defined_ranges(book, prefixes).items():
