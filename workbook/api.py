@@ -13,8 +13,9 @@ crankbook.CrankbookError.
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import sys
+
 import numpy as np
-import pandas as pd
 
 from crankbook import params as parameters
 from crankbook.errors import BuildOptionError, GeometryError
@@ -77,6 +78,7 @@ class Results:
                     data[f"{q.key}[{i}]"] = float(v)
             else:
                 data[q.key] = float(value)
+        import pandas as pd
         return pd.Series(data, dtype=float, name="value")
 
     def series(self, grid=None):
@@ -91,6 +93,7 @@ class Results:
         grid = grid or self.spec.grid.key
         if grid not in self.grids:
             raise BuildOptionError(f"unknown grid {grid!r}; grids are {', '.join(self.grids)}")
+        import pandas as pd
         index = pd.Index(np.asarray(self.results[grid], dtype=float), name=grid)
         columns = {}
         for q in self.spec.series():
@@ -128,11 +131,18 @@ class Results:
         return write_workbook(self, lang, path)
 
 
+def _is_frame(value):
+    """True for a pandas DataFrame; pandas is imported only when a result asks for a
+    table (a command-line run never does), and a frame exists only if it was."""
+    pandas = sys.modules.get("pandas")
+    return pandas is not None and isinstance(value, pandas.DataFrame)
+
+
 def _traces(spec, pressure):
     """The Traces of a file or DataFrame (two columns, or an angle column and one
     pressure column per speed headed by the speed in r/min)."""
     from crankbook.pressure_file import read_traces, traces_of_rows
-    if isinstance(pressure, pd.DataFrame):
+    if _is_frame(pressure):
         if pressure.shape[1] < 2:
             raise BuildOptionError("pressure: a DataFrame needs two columns, crank angle [°] "
                                    "and absolute pressure [MPa], or an angle column and one "
@@ -211,7 +221,7 @@ def compute(preset="thesis", *, group=None, pressure=None, step=None, **params):
     values = parameters.apply_overrides(spec, values, params)
     tables = {}
     if pressure is not None:
-        what = "the pressure DataFrame" if isinstance(pressure, pd.DataFrame) else str(pressure)
+        what = "the pressure DataFrame" if _is_frame(pressure) else str(pressure)
         tables, values = _trace_inputs(spec, _traces(spec, pressure), values, params, what)
     values = parameters.validate(spec, values, tables=tables, grids=build_grids(spec, steps))
     return results_for(spec, meta, values, tables, steps)
@@ -254,41 +264,52 @@ def _check_written_values(spec, values, results):
             raise GeometryError(f"{q.en}: none exists for these inputs ({shown})")
 
 
-def read(path, recalculate=False):
+def read(path, recalculate=False, progress=None):
     """The p_ and q_ values of a workbook crankbook wrote, through its names.
 
     Parameters
     ----------
-    path : str or pathlib.Path
+    path : str, pathlib.Path or a list of them
+        A list is recalculated in one engine start.
     recalculate : bool
         Recalculate in LibreOffice first (what an Excel user changed but saved
         without recalculating, or a file written by a script); otherwise the values
         stored in the file are read.
+    progress : bool or None
+        Show progress on stderr (None: when it is a terminal).
 
     Returns
     -------
-    Results
+    Results, or a list of them for a list of paths
         ``results`` holds the workbook's values, not a recomputation.
     """
-    from crankbook.workbook_reader import read_workbook
-    return read_workbook(Path(path), recalculate=recalculate)
+    from crankbook.workbook_reader import read_workbooks
+    if isinstance(path, (list, tuple)):
+        return read_workbooks([Path(p) for p in path], recalculate, progress)
+    return read_workbooks([Path(path)], recalculate, progress)[0]
 
 
-def verify(path, engine="libreoffice"):
-    """Recalculate a workbook in a spreadsheet engine and compare every q_ name with
-    numpy evaluated on the workbook's own inputs.
+def verify(path, engine="libreoffice", progress=None):
+    """Recalculate a workbook (or a list of workbooks, in one engine start) in a
+    spreadsheet engine and compare every q_ name with numpy evaluated on the
+    workbook's own inputs.
 
     Parameters
     ----------
+    path : str, pathlib.Path or a list of them
     engine : {'libreoffice', 'gnumeric'}
+    progress : bool or None
+        Show progress on stderr (None: when it is a terminal).
 
     Returns
     -------
-    pandas.DataFrame
+    pandas.DataFrame, or a list of them for a list of paths
         One row per q_ name: ``name``, ``unit``, ``error`` (largest |engine − numpy|),
         ``allowed`` (the tolerance), ``cached_error`` (largest |stored − engine|) and
         ``ok``; its ``attrs`` hold ``status`` (the workbook's status text) and
         ``valid`` (q_inputs_valid).
     """
-    from crankbook.verification import verify_workbook
-    return verify_workbook(Path(path), engine=engine)
+    from crankbook.verification import verify_workbooks
+    if isinstance(path, (list, tuple)):
+        return verify_workbooks([Path(p) for p in path], engine=engine, progress=progress)
+    return verify_workbooks([Path(path)], engine=engine, progress=progress)[0]

@@ -5,13 +5,14 @@ Gnumeric); every q_ name read back is compared, by crankbook.compare's one rule,
 with the calc functions evaluated on the workbook's own inputs.
 """
 
-import pandas as pd
+from pathlib import Path
 
 from crankbook import params, recalc
 from crankbook.compare import compare, noise_floors
 from crankbook.errors import CrankbookError, WorkbookReadError
 from crankbook.evaluate import evaluate
 from crankbook.workbook_reader import load_named, open_book, defined_ranges, read_results
+from crankbook.progress import steps, waiting
 from crankbook.workspace import temporary_directory
 
 
@@ -26,20 +27,56 @@ def expected_values(spec, values, tables, grids):
     return expected, noise_floors(spec, values, tables, grids)
 
 
-def verify_workbook(path, engine="libreoffice", workdir=None):
+def verify_workbook(path, engine="libreoffice", workdir=None, progress=None):
     """A DataFrame of per-name comparisons (see crankbook.verify)."""
-    book, spec, template, ranges, values, tables, grids, sizes, grid_rows = load_named(path)
-    cached = read_results(book, spec, ranges, path, sizes, grid_rows)
-    if not cached:
-        raise WorkbookReadError(f"{path}: has no q_ names, so nothing to verify (a student "
-                                f"workbook is checked with 'crankbook grade')")
+    return verify_workbooks([path], engine, workdir, progress)[0]
+
+
+def verify_workbooks(paths, engine="libreoffice", workdir=None, progress=None):
+    """One DataFrame per workbook, every workbook recalculated in one engine start."""
+    loaded = []
+    for path in steps(paths, "verify: reading", progress=progress):
+        named = load_named(path)
+        book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
+        cached = read_results(book, spec, ranges, path, sizes, grid_rows)
+        if not cached:
+            raise WorkbookReadError(f"{path}: has no q_ names, so nothing to verify (a "
+                                    f"student workbook is checked with 'crankbook grade')")
+        loaded.append((path, named, cached))
+    frames = []
     with temporary_directory("verify", workdir) as tmp:
-        converted = recalc.convert([path], tmp, engine=engine)[0]
-        book_after = open_book(converted)
-        ranges_after = defined_ranges(book_after)
-        recalculated = read_results(book_after, spec, ranges_after, path, sizes, grid_rows)
-        status = _single(book_after, ranges_after, "q_input_status")
-        valid = _single(book_after, ranges_after, "q_inputs_valid")
+        with waiting(f"verify: recalculating {len(paths)} workbook(s) in {engine}", progress):
+            converted = recalc.convert(_distinct(paths, tmp), tmp, engine=engine)
+        for (path, named, cached), after in steps(list(zip(loaded, converted)),
+                                                 "verify: comparing", progress=progress):
+            frames.append(_compared(path, named, cached, after, engine))
+    return frames
+
+
+def _distinct(paths, tmp):
+    """The paths, copied under distinct names where two share a file name (the engine
+    writes each output under its input's name)."""
+    import shutil
+    seen, out = set(), []
+    for number, path in enumerate(paths):
+        path = Path(path)
+        if path.stem in seen:
+            copy = Path(tmp) / "in" / f"{number:05d}-{path.name}"
+            copy.parent.mkdir(exist_ok=True)
+            shutil.copy(path, copy)
+            path = copy
+        seen.add(path.stem)
+        out.append(path)
+    return out
+
+
+def _compared(path, named, cached, converted, engine):
+    book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
+    book_after = open_book(converted)
+    ranges_after = defined_ranges(book_after)
+    recalculated = read_results(book_after, spec, ranges_after, path, sizes, grid_rows)
+    status = _single(book_after, ranges_after, "q_input_status")
+    valid = _single(book_after, ranges_after, "q_inputs_valid")
     expected, floors = expected_values(spec, values, tables, grids)
     rows = []
     if expected is not None:
@@ -49,10 +86,12 @@ def verify_workbook(path, engine="libreoffice", workdir=None):
             rows.append({"name": name, "unit": c.unit, "cells": c.cells, "error": c.error,
                          "allowed": c.allowed, "ratio": c.ratio,
                          "cached_ratio": stored[name].ratio, "ok": c.ok})
+    import pandas as pd           # only here: the command line starts without it
     frame = pd.DataFrame(rows, columns=["name", "unit", "cells", "error", "allowed", "ratio",
                                         "cached_ratio", "ok"])
     frame.attrs.update({"status": status, "valid": valid, "template": template,
-                        "engine": engine, "inputs_break_rules": expected is None})
+                        "engine": engine, "inputs_break_rules": expected is None,
+                        "path": str(path)})
     return frame
 
 

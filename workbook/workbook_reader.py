@@ -300,13 +300,23 @@ def load_named(path):
 
 def read_workbook(path, recalculate=False):
     """Results holding the workbook's own values (see crankbook.read)."""
+    return read_workbooks([path], recalculate)[0]
+
+
+def read_workbooks(paths, recalculate=False, progress=None):
+    """Results of each workbook; with ``recalculate``, all in one LibreOffice start."""
     from crankbook.api import Results
     from crankbook.compare import as_array
-    if recalculate:
-        with temporary_directory("read") as tmp:
-            converted = recalc.convert([path], tmp)[0]
-            return _results_of(converted, path, Results, as_array)
-    return _results_of(path, path, Results, as_array)
+    from crankbook.progress import steps, waiting
+    if not recalculate:
+        return [_results_of(p, p, Results, as_array)
+                for p in steps(paths, "read", progress=progress)]
+    with temporary_directory("read") as tmp:
+        with waiting(f"read: recalculating {len(paths)} workbook(s) in LibreOffice", progress):
+            from crankbook.verification import _distinct
+            converted = recalc.convert(_distinct(paths, tmp), tmp)
+        return [_results_of(c, p, Results, as_array)
+                for p, c in steps(list(zip(paths, converted)), "read", progress=progress)]
 
 
 def _results_of(path, shown, Results, as_array):

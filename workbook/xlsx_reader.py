@@ -189,17 +189,19 @@ class XlsxBook:
         that of the values kept, whatever the part's size."""
         data = self._part(name)
         stack, open_targets = [], 0
+        push, pop = stack.append, stack.pop        # the loop runs once per element
         for event, element in ElementTree.iterparse(io.BytesIO(_text_of(data, name)),
                                                     events=("start", "end")):
             if event == "start":
-                stack.append(element)
+                push(element)
                 if len(stack) > MAX_DEPTH:
                     raise Unreadable(f"{name} nests XML deeper than {MAX_DEPTH} levels")
-                open_targets += element.tag in tags
+                if element.tag in tags:
+                    open_targets += 1
                 continue
-            stack.pop()
+            pop()
             self._elements += 1
-            if self._elements % 20000 == 0:
+            if not self._elements % 20000:
                 self._tick()
                 if self._elements > MAX_ELEMENTS:
                     raise Unreadable(f"more than {MAX_ELEMENTS:,} XML elements: not a "
@@ -207,7 +209,7 @@ class XlsxBook:
             if element.tag in tags:
                 open_targets -= 1
                 yield element
-            if open_targets == 0 and stack:
+            if not open_targets and stack:
                 stack[-1].remove(element)       # the last child: its siblings are gone
 
     def _xml(self, name, required=True):
@@ -285,12 +287,17 @@ class XlsxBook:
         cells = {}
         tag_c, tag_v, tag_f, tag_is = (f"{{{MAIN}}}c", f"{{{MAIN}}}v", f"{{{MAIN}}}f",
                                        f"{{{MAIN}}}is")
+        columns = {}                     # letters -> number: a sheet has few columns
         try:
             for cell in self._stream(self.sheet_part[name], {tag_c}):
                 match = CELL.match(cell.get("r") or "")
                 if not match:
                     continue
-                key = (int(match.group(2)), _column(match.group(1)))
+                letters = match.group(1)
+                column = columns.get(letters)
+                if column is None:
+                    column = columns[letters] = _column(letters)
+                key = (int(match.group(2)), column)
                 formula = cell.find(tag_f)
                 cells[key] = (_value(cell, self.shared, tag_v, tag_is),
                               False if formula is None else (formula.text or "")[:MAX_FORMULA]

@@ -1,6 +1,7 @@
 """Native charts: x–y scatter lines (over the grid or any column), per-item curves,
 equal axes for profiles and polar diagrams, and column charts of spectra."""
 import math
+import weakref
 
 import numpy as np
 
@@ -159,9 +160,26 @@ def chart_column_width(charts):
     return math.ceil((widest + 30) / 7)
 
 
-def _cache(values):
-    """A series' cached points (blank where numpy gives NaN)."""
-    return [float(v) if math.isfinite(v) else None for v in np.ravel(values)]
+class Points(list):
+    """A series' cached points, with their <c:numCache> XML made once (a chart and its
+    copy on the Charts sheet share it)."""
+    xml = None
+
+
+_POINTS = weakref.WeakKeyDictionary()    # numpy array -> {column: Points}
+
+
+def _cache(values, column=None):
+    """A series' cached points (blank where numpy gives NaN), one list per array."""
+    array = np.asarray(values, dtype=float)
+    try:
+        made = _POINTS.setdefault(values, {}) if isinstance(values, np.ndarray) else {}
+    except TypeError:
+        made = {}
+    if column not in made:
+        data = array.ravel() if column is None else array[:, column]
+        made[column] = Points(float(v) if math.isfinite(v) else None for v in data.tolist())
+    return made[column]
 
 
 def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=None, size=None):
@@ -185,14 +203,18 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
         for index, (name, values) in enumerate(_ranges(layout, key, results,
                                                         short=bool(chart_spec.x))):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
-            y = np.asarray(results[key], dtype=float)
-            y = y if y.ndim == 1 else y[:, index]
-            x = np.asarray(results.get(x_key, []), dtype=float)
-            x = x if x.ndim == 1 else x[:, index]
+            y_source = results[key]
+            y = np.asarray(y_source, dtype=float)
+            y_column = None if y.ndim == 1 else index
+            y = y if y_column is None else y[:, index]
+            x_source = results.get(x_key, [])
+            x = np.asarray(x_source, dtype=float)
+            x_column = None if x.ndim == 1 else index
+            x = x if x_column is None else x[:, index]
             series = {"name": name, "categories": x_range, "values": values,
-                      "values_data": _cache(y)}
+                      "values_data": _cache(y_source, y_column)}
             if x.size == y.size:
-                series["categories_data"] = _cache(x)
+                series["categories_data"] = _cache(x_source, x_column)
             colour = COLOURS[curves % len(COLOURS)]
             if kind == "column":
                 series["fill"] = {"color": colour}

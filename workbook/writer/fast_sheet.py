@@ -17,9 +17,15 @@ with it the writing and the compression of every build.
 """
 import numpy as np
 from xlsxwriter.utility import xl_col_to_name
+from xlsxwriter import Workbook
+from xlsxwriter.chart import Chart
 from xlsxwriter.worksheet import Worksheet
 
 from crankbook.formulas import INDEX, PREV, ROW
+
+
+_COLUMN_XML = {}          # (template, place, style, …) -> the column's cell XML around values
+MAX_CACHED_COLUMNS = 4000
 
 
 class CellXml(str):
@@ -50,38 +56,53 @@ class FastWorksheet(Worksheet):
         """One formula per row from ``first_row``: ``template`` (compiled, with row
         markers, starting with '=') in every row but the first, which gets ``first``;
         ``values`` are the cached results (NaN and ±inf are cached as blanks)."""
-        body = _pattern(template).format
-        head = _pattern(first).format if first is not None else body
-        letter = xl_col_to_name(col)
         style = f' s="{fmt._get_xf_index()}"' if fmt else ""
-        table = self.table
-        # the run of rows written as one shared formula: all rows but a distinct first
-        shared_from = 0 if first is None or first == template else 1
-        shareable = INDEX not in template and len(values) - shared_from >= 2
         numbers = np.asarray(values, dtype=float)
         cached = [repr(v) if ok else "" for v, ok in
                   zip(numbers.tolist(), np.isfinite(numbers).tolist())]
-        dependent = None
-        for i, value in enumerate(cached):
+        # everything but the values is the same for every workbook of one layout (the
+        # keys of a class): the cells' XML around their values is made once
+        key = (template, first, first_row, col, len(cached), style, self._shared_formulas)
+        parts = _COLUMN_XML.get(key)
+        if parts is None:
+            parts, shared = self._column_xml(first_row, col, template, first, style,
+                                             len(cached))
+            if len(_COLUMN_XML) > MAX_CACHED_COLUMNS:
+                _COLUMN_XML.clear()
+            _COLUMN_XML[key] = parts = (parts, shared)
+        parts, shared = parts
+        self._shared_formulas += shared
+        table = self.table
+        for i, (head, tail) in enumerate(parts):
+            table[first_row + i][col] = CellXml(head + cached[i] + tail)
+        self._check_dimensions(first_row, col)
+        self._check_dimensions(first_row + len(cached) - 1, col)
+
+    def _column_xml(self, first_row, col, template, first, style, count):
+        """([(XML before the value, XML after it)] per row, shared formulas used)."""
+        body = _pattern(template).format
+        head = _pattern(first).format if first is not None else body
+        letter = xl_col_to_name(col)
+        # the run of rows written as one shared formula: all rows but a distinct first
+        shared_from = 0 if first is None or first == template else 1
+        shareable = INDEX not in template and count - shared_from >= 2
+        parts, dependent, shared = [], None, 0
+        for i in range(count):
             row = first_row + i
             ref = f"{letter}{row + 1}"
             if dependent is not None:
                 formula = dependent
             elif shareable and i == shared_from:
-                index = self._next_shared_index()
-                last = first_row + len(values)
+                index = self._shared_formulas + shared
+                shared += 1
+                last = first_row + count
                 formula = f'<f t="shared" ref="{ref}:{letter}{last}" si="{index}">' \
                     f'{body(row + 1, row, i)}</f>'
                 dependent = f'<f t="shared" si="{index}"/>'
             else:
                 formula = f"<f>{(head if i == 0 else body)(row + 1, row, i)}</f>"
-            table[row][col] = CellXml(f'<c r="{ref}"{style}>{formula}<v>{value}</v></c>')
-        self._check_dimensions(first_row, col)
-        self._check_dimensions(first_row + len(values) - 1, col)
-
-    def _next_shared_index(self):
-        self._shared_formulas += 1
-        return self._shared_formulas - 1
+            parts.append((f'<c r="{ref}"{style}>{formula}<v>', "</v></c>"))
+        return parts, shared
 
     def _write_cell(self, row, col, cell):
         if cell.__class__ is CellXml:
@@ -123,15 +144,54 @@ class FastWorksheet(Worksheet):
                 else:
                     self._write_row(row_num, span, info)
                 cells = self.table[row_num]
-                for col_num in sorted(cells):
-                    self._write_cell(row_num, col_num, cells[col_num])
+                order = sorted(cells)
+                if all(cells[c].__class__ is CellXml for c in order):
+                    self.fh.write("".join([cells[c] for c in order]))   # one write a row
+                else:
+                    for col_num in order:
+                        self._write_cell(row_num, col_num, cells[col_num])
                 self._xml_end_tag("row")
             else:
                 self._write_empty_row(row_num, span, info)
 
     def _get_range_data(self, row_start, col_start, row_end, col_end):
-        """No cached chart data: the formula cells are finished XML xlsxwriter cannot
-        read back, so a cache would hold the x values without the y values; every
-        engine draws the charts from the cells (Excel recalculates on load,
-        fullCalcOnLoad)."""
+        """No cached chart data read back from the cells: the formula cells are
+        finished XML xlsxwriter cannot read; the chart writer hands every series its
+        cache from the numpy values instead (crankbook.writer.charts)."""
         return []
+
+
+def _write_num_cache(self, data):
+    """xlsxwriter's <c:numCache> as one string: the same XML, without an element call
+    per point (a workbook's charts cache some hundred thousand points); made once for
+    points that keep it (crankbook.writer.charts.Points)."""
+    made = getattr(data, "xml", None)
+    if made is not None:
+        self.fh.write(made)
+        return
+    count = len(data) if data else 0
+    parts = [f'<c:numCache><c:formatCode>General</c:formatCode><c:ptCount val="{count}"/>']
+    for index, token in enumerate(data or ()):
+        if token is None:
+            continue
+        try:
+            float(token)
+        except (TypeError, ValueError):
+            token = 0
+        parts.append(f'<c:pt idx="{index}"><c:v>{token}</c:v></c:pt>')
+    parts.append("</c:numCache>")
+    text = "".join(parts)
+    if hasattr(data, "xml"):
+        data.xml = text
+    self.fh.write(text)
+
+
+Chart._write_num_cache = _write_num_cache
+
+
+class FastWorkbook(Workbook):
+    """A workbook whose every sheet is a FastWorksheet (crankbook's formulas need none
+    of xlsxwriter's per-cell formula rewriting)."""
+
+    def add_worksheet(self, name=None, worksheet_class=None):
+        return super().add_worksheet(name, worksheet_class=worksheet_class or FastWorksheet)

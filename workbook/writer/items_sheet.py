@@ -45,7 +45,7 @@ def write_items_sheet(book, plan, layout, values, results, styles):
                                item=i + 1, value=results[quantity.key][i])
     row = FIRST_ROW + count + 2
     for chart_spec in sheet.charts:
-        chart = add_chart(book, chart_spec, sheet, layout, results, ws, styles)
+        chart = add_chart(book, chart_spec, sheet, layout, {**values, **results}, ws, styles)
         ws.insert_chart(row, 1, chart)
         row += math.ceil((chart.height + 20) / 20)
     ws.freeze_panes(FIRST_ROW, 1)

@@ -29,9 +29,11 @@ def printed_rows(grid_values, step):
     a coarser multiple of the grid's own step when no step is given)."""
     if step is None:
         step = grid_values[1] - grid_values[0] if len(grid_values) > 1 else 1.0
+    if not (math.isfinite(step) and step > 0):
+        step = 1.0
     while True:
         rows = [i for i, value in enumerate(grid_values)
-                if abs(value / step - round(value / step)) < 1e-9]
+                if math.isfinite(value) and abs(value / step - round(value / step)) < 1e-9]
         if len(rows) <= MAX_ROWS:
             return rows, step
         step *= 2
