@@ -6,6 +6,7 @@ import csv
 import hashlib
 import io
 import math
+import re
 import shutil
 import zipfile
 
@@ -724,3 +725,223 @@ def test_a_near_copy_is_found_and_the_source_is_not_flagged(pack, tmp_path):
     rows = [[c.value for c in row] for row in report.iter_rows(min_row=5)]
     assert rows[0][0].startswith("s02") and rows[0][1].startswith("s01")
     assert "%" in rows[0][3]                        # the evidence: how well they fit
+
+
+# ---------------------------------------------------------------- the teacher's workflow (issue 27)
+def test_check_passes_a_complete_file_and_never_tells_a_value(pack, tmp_path):
+    answers = key_answers(pack, "s03")
+    fill(pack / "students" / "s03.xlsx", tmp_path / "s03.xlsx", answers)
+    done = run_cli("check", tmp_path / "s03.xlsx")
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert done.stdout.strip().splitlines()[-1].startswith("可以提交")
+    # a slightly wrong answer is not the checker's business: it reads, it does not grade
+    wrong = scaled(answers, "rod_length", 1.07)
+    fill(pack / "students" / "s03.xlsx", tmp_path / "wrong.xlsx", wrong)
+    done = run_cli("check", tmp_path / "wrong.xlsx")
+    assert done.returncode == 0 and "连杆长度" not in done.stdout, done.stdout
+    for value in (answers["rod_length"], answers["crank_radius"]):
+        assert f"{value:.4g}" not in done.stdout
+
+
+def test_check_lists_what_grading_would_lose(pack, tmp_path):
+    answers = key_answers(pack, "s04")
+    answers["crank_radius"] = "about sixty"             # text in a number cell
+    answers["pos_slider_velocity"] = [None, *answers["pos_slider_velocity"][1:]]
+    answers["flywheel_inertia"] = None
+    angles = list(answers["pos_crank_angle"])
+    angles[5] = 3.5                                       # names no position
+    answers["pos_crank_angle"] = angles
+    fill(pack / "students" / "s04.xlsx", tmp_path / "s04.xlsx", answers)
+    done = run_cli("check", tmp_path / "s04.xlsx")
+    assert done.returncode == 1, done.stdout + done.stderr
+    out = done.stdout
+    assert "曲柄半径 r" in out and "about sixty" in out and "不是数值" in out
+    assert "飞轮转动惯量 J_F：未作答" in out
+    assert "滑块速度 v_B：1 格未填（A0）" in out
+    assert not re.search(r"\d\s*分|/\s*100|得分", out)          # no points, no score
+    assert out.strip().splitlines()[-1].startswith("提交前请修改")
+
+
+def test_check_refuses_hostile_files_in_one_line(pack, tmp_path):
+    student = pack / "students"
+    (tmp_path / "ole.xlsx").write_bytes(b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1" + b"\0" * 4096)
+    _rezip(student / "s06.xlsx", tmp_path / "macro.xlsx",
+           lambda items: items.update({"xl/macros/code.bin": b"\xd0\xcf\x11\xe0" + b"\0" * 64}))
+    bomb = ('<?xml version="1.0"?><!DOCTYPE lolz [<!ENTITY lol "lol">]><lolz>&lol;</lolz>')
+    _rezip(student / "s04.xlsx", tmp_path / "bomb.xlsx",
+           lambda items: items.update({"docProps/custom.xml": bomb.encode()}))
+    for name, file in (("ole", tmp_path / "ole.xlsx"), ("macro", tmp_path / "macro.xlsx"),
+                       ("bomb", tmp_path / "bomb.xlsx"), ("key", pack / "keys" / "s01.xlsx")):
+        done = run_cli("check", file)
+        assert done.returncode == 1 and "Traceback" not in done.stderr, (name, done.stderr)
+        assert len(done.stdout.strip().splitlines()) == 1, (name, done.stdout)
+    done = run_cli("check", tmp_path / "nothing.xlsx")
+    assert done.returncode == 2 and done.stderr.count("\n") == 1
+
+
+def test_annotated_returns_colour_the_students_own_cells(pack, tmp_path, soffice):
+    subs = tmp_path / "subs"
+    answers = key_answers(pack, "s05")
+    wrong = scaled(answers, "crank_radius", 1.3)
+    wrong["flywheel_inertia"] = "see sheet 3"
+    fill(pack / "students" / "s05.xlsx", subs / "s05.xlsx", wrong)
+    fill(pack / "students" / "s05.xlsx", subs / "s06.xlsx", answers)     # s06 hands in s05's
+    fill(pack / "students" / "s07.xlsx", subs / "s07.xlsx", key_answers(pack, "s07"))
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "res", "--return", tmp_path / "back",
+                   "--feedback", "hints")
+    assert done.returncode == 0, done.stderr
+    back = tmp_path / "back"
+    book = openpyxl.load_workbook(back / "s05.xlsx")
+
+    def cell(name, index=0):
+        sheet, ref = next(iter(book.defined_names[name].destinations))
+        block = book[sheet][ref.replace("$", "")]
+        cells = [c for row in block for c in row] if isinstance(block, tuple) else [block]
+        return cells[index]
+    assert cell("a_crank_radius").fill.fgColor.rgb.endswith("FFC7CE")       # wrong: red
+    assert cell("a_rod_length").fill.fgColor.rgb.endswith("C6EFCE")         # right: green
+    assert cell("a_flywheel_inertia").fill.fgColor.rgb.endswith("D9D2E9")   # unreadable
+    assert "不是数值" in cell("a_flywheel_inertia").comment.text
+    comment = cell("a_crank_radius").comment.text
+    assert "错误" in comment or "0 /" in comment
+    expected = key_answers(pack, "s05")["crank_radius"]
+    assert f"{expected:.4g}" not in comment                 # hints: no expected value
+    first = book.worksheets[0]
+    texts = [str(c.value) for row in first.iter_rows() for c in row if c.value is not None]
+    assert any(t.startswith("得分") and "/ 100" in t for t in texts)
+    # nothing about another student: not s06 (who copied), not in any returned file
+    for path in back.iterdir():
+        with open(path, "rb") as handle:
+            data = handle.read()
+        if path.suffix == ".xlsx":
+            with zipfile.ZipFile(path) as archive:
+                data = b"".join(archive.read(n) for n in archive.namelist())
+        own = path.stem
+        text = data.decode("utf-8", errors="replace")
+        for other in ROSTER:
+            if other != own:
+                assert not re.search(rf"(?<![A-Za-z0-9]){other}(?![A-Za-z0-9])", text), \
+                    (path.name, other)
+                assert NAMES[other] not in text, (path.name, other)
+    assert (back / "s01.html").is_file() and "未" in (back / "s01.html").read_text("utf-8")
+    # LibreOffice opens the returned workbook and keeps the colours and comments
+    saved = recalc.convert([back / "s05.xlsx"], tmp_path / "lo")[0]
+    again = openpyxl.load_workbook(saved)
+    sheet, ref = next(iter(again.defined_names["a_crank_radius"].destinations))
+    assert again[sheet][ref.replace("$", "")].comment is not None
+
+
+def _round_for_exports(pack, tmp_path):
+    subs = tmp_path / "subs"
+    for sid in ("s01", "s04"):
+        fill(pack / "students" / f"{sid}.xlsx", subs / f"{sid}.xlsx", key_answers(pack, sid))
+    fill(pack / "students" / "s02.xlsx", subs / "s02.xlsx",
+         scaled(key_answers(pack, "s02"), "flywheel_inertia", 1.5))
+    return subs
+
+
+def test_overrides_leave_a_record_and_apply_the_same_twice(pack, tmp_path):
+    subs = _round_for_exports(pack, tmp_path)
+    overrides = tmp_path / "overrides.csv"
+    overrides.write_text(
+        "student,item,action,points,reason,who\n"
+        "s02,a_flywheel_inertia,accept,,used the guide's own J_F formula,王老师\n"
+        "s04,a_crank_radius,points,2,radius read off the drawing,王老师\n"
+        "s01,a_pos_slider_velocity!A3,accept,,,王老师\n", encoding="utf-8")
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "r0", "--overrides", overrides)
+    assert done.returncode == 2 and "row 4" in done.stderr and "reason" in done.stderr
+    overrides.write_text(overrides.read_text("utf-8").replace(",,,王老师", ",,typo in A3,王老师"),
+                         encoding="utf-8")
+    books = []
+    for run in ("r1", "r2"):
+        done = run_cli("grade", pack, subs, "-o", tmp_path / run, "--overrides", overrides)
+        assert done.returncode == 0, done.stderr
+        books.append((tmp_path / run / "gradebook.csv").read_bytes())
+    assert books[0] == books[1]
+    rows, _ = read_gradebook(tmp_path / "r1")
+    assert float(rows["s02"]["score"]) == 100.0 and "王老师" in rows["s02"]["overrides"]
+    assert float(rows["s04"]["score"]) == pytest.approx(
+        100.0 - ASSIGNMENT.item["crank_radius"].points + 2)
+    for sid, row in rows.items():                          # students never see it
+        lms = (tmp_path / "r1" / "lms-import.csv").read_text("utf-8-sig")
+        assert "王老师" not in lms
+    bad = tmp_path / "bad.csv"
+    bad.write_text("student,item,action,points,reason,who\ns99,a_crank_radius,accept,,x,y\n",
+                   encoding="utf-8")
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "r3", "--overrides", bad)
+    assert done.returncode == 2 and "s99" in done.stderr and done.stderr.count("\n") == 1
+
+
+def test_lms_exports_have_the_columns_their_importers_read(pack, tmp_path):
+    subs = _round_for_exports(pack, tmp_path)
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "canvas", "--lms", "canvas",
+                   "--out-of", "20")
+    assert done.returncode == 0, done.stderr
+    with open(tmp_path / "canvas" / "canvas-gradebook.csv", newline="", encoding="utf-8") as f:
+        table = list(csv.reader(f))
+    assert table[0][:5] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section"]
+    assert table[1][0] == "Points Possible" and float(table[1][5]) == 20.0
+    scores = {r[2]: r[5] for r in table[2:]}
+    assert float(scores["s01"]) == 20.0 and scores["s03"] == ""      # missing: no zero
+    assert {r[4] for r in table[2:]} == {"机械1班"}
+    # 学习通: 学号 as text
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "xxt", "--lms", "xuexitong")
+    assert done.returncode == 0, done.stderr
+    sheet = openpyxl.load_workbook(tmp_path / "xxt" / "xuexitong-import.xlsx").active
+    assert [c.value for c in sheet[1]] == ["学号", "姓名", "成绩", "评语"]
+    assert sheet["A2"].data_type == "s" and sheet["A2"].value == "s01"
+    assert sheet["C2"].value == 100
+    # Moodle: its own worksheet, filled and kept whole
+    worksheet = tmp_path / "moodle.csv"
+    worksheet.write_text(
+        '"Identifier","Full name","Email address","Status","Grade","Maximum Grade",'
+        '"Grade can be changed","Last modified (submission)","Last modified (grade)",'
+        '"Feedback comments"\n'
+        f'"Participant 8812","{NAMES["s01"]}","","Submitted for grading","","100.00","Yes",'
+        '"","",""\n'
+        '"Participant 9999","Not In Class","","No submission","","100.00","Yes","","",""\n',
+        encoding="utf-8")
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "moodle", "--lms", "moodle",
+                   "--lms-template", worksheet)
+    assert done.returncode == 0, done.stderr
+    with open(tmp_path / "moodle" / "moodle-grading-worksheet.csv", newline="",
+              encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    assert rows[0]["Identifier"] == "Participant 8812" and float(rows[0]["Grade"]) == 100
+    assert rows[0]["Feedback comments"] and rows[1]["Grade"] == ""
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "m2", "--lms", "moodle")
+    assert done.returncode == 2 and "--lms-template" in done.stderr
+
+
+def test_part_of_the_pack_and_item_statistics(pack, tmp_path):
+    subs = _round_for_exports(pack, tmp_path)
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "week1", "--items",
+                   "a_crank_radius,a_rod_length,a_flywheel_inertia", "--out-of", "10")
+    assert done.returncode == 0, done.stderr
+    rows, _ = read_gradebook(tmp_path / "week1")
+    assert float(rows["s01"]["max_score"]) == 10.0 and float(rows["s01"]["score"]) == 10.0
+    share = ASSIGNMENT.item["flywheel_inertia"].points / sum(
+        ASSIGNMENT.item[k].points for k in ("crank_radius", "rod_length", "flywheel_inertia"))
+    assert float(rows["s02"]["score"]) == pytest.approx(10.0 * (1 - share), abs=0.01)
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "bad", "--items", "a_nothing")
+    assert done.returncode == 2 and "nothing is not an item" in done.stderr
+    # statistics: the planted hard item (s02's J_F) is the hardest, no slips invented
+    from crankbook.assignment.results import item_statistics
+    from crankbook.assignment.grade import Grade
+    from crankbook.assignment.scoring import CellResult
+
+    def grade_of(sid, fraction):
+        g = Grade(student_id=sid, name=sid, status="graded")
+        for item in ASSIGNMENT.items:
+            f = fraction if item.key == "flywheel_inertia" else 1.0
+            g.items[item.key] = (item.points * f, [CellResult("", 1, 1, f, "correct"
+                                                              if f == 1 else "wrong", {})])
+        return g
+    graded = [grade_of(f"x{i}", 1.0 if i % 3 == 0 else 0.0) for i in range(30)]
+    stats = {e["item"].key: e for e in item_statistics(ASSIGNMENT, graded)}
+    assert min(stats, key=lambda k: stats[k]["difficulty"]) == "flywheel_inertia"
+    assert stats["flywheel_inertia"]["difficulty"] == pytest.approx(10 / 30)
+    assert stats["flywheel_inertia"]["discrimination"] == pytest.approx(1.0)
+    assert stats["crank_radius"]["discrimination"] == 0.0
+    report = openpyxl.load_workbook(tmp_path / "week1" / "class-report.xlsx")
+    assert "题目分析" in report.sheetnames

@@ -63,16 +63,21 @@ def _build_parser():
                             "(default: 1)")
     build.add_argument("-o", "--output", metavar="PATH",
                        help="output .xlsx (default: output/<preset>.xlsx)")
+    build.add_argument("--quiet", action="store_true",
+                       help="no progress on the terminal (none is shown in a pipe anyway)")
 
     verify = commands.add_parser(
-        "verify", help="recalculate a workbook in LibreOffice and compare with numpy",
-        description="Open PATH in LibreOffice headless with recalculation forced, read every "
+        "verify", help="recalculate workbooks in LibreOffice and compare with numpy",
+        description="Open each PATH in LibreOffice headless with recalculation forced, read every "
                     "q_ name back and compare it with numpy for the workbook's own parameters. "
                     "Exit 0 only when all agree within 1e-9 of each quantity's peak plus its "
                     "rounding floor.")
-    verify.add_argument("path", metavar="PATH")
+    verify.add_argument("paths", metavar="PATH", nargs="+",
+                        help="one or more workbooks (all recalculated in one engine start)")
     verify.add_argument("--engine", choices=("libreoffice", "gnumeric"), default="libreoffice",
                         help="spreadsheet engine that recalculates (default: libreoffice)")
+    verify.add_argument("--quiet", action="store_true",
+                        help="no progress on the terminal (none is shown in a pipe anyway)")
 
     audit = commands.add_parser(
         "audit", help="audit a source document's numbers, or a workbook crankbook wrote",
@@ -89,6 +94,8 @@ def _build_parser():
     audit.add_argument("--sources", metavar="DIR",
                        help="folder of the seed text files: check that every reported number "
                             "is printed at its line (exit 1 if one is not)")
+    audit.add_argument("--quiet", action="store_true",
+                       help="no progress on the terminal (none is shown in a pipe anyway)")
 
     assign = commands.add_parser(
         "assign", help="write a workbook per student, the answer keys and a manifest",
@@ -103,6 +110,17 @@ def _build_parser():
     assign.add_argument("--seed", type=int, default=1, help="variant seed (default 1)")
     assign.add_argument("--lang", choices=LANGS, default="zh")
     assign.add_argument("-o", "--output", required=True, metavar="DIR")
+    assign.add_argument("--quiet", action="store_true",
+                        help="no progress on the terminal (none is shown in a pipe anyway)")
+
+    check = commands.add_parser(
+        "check", help="for students: would the grader read this workbook in full?",
+        description="Read a returned student workbook as `crankbook grade` does and list, in "
+                    "the file's language, what grading would lose: an unreadable file, text "
+                    "in a number cell, rows whose crank angle names no position, blank "
+                    "answers. Never a score or an expected value. Exit 0: everything would "
+                    "be read; 1: something would be lost.")
+    check.add_argument("file", metavar="FILE")
 
     grade = commands.add_parser(
         "grade", help="grade returned workbooks against the assignment in DIR",
@@ -126,6 +144,27 @@ def _build_parser():
     grade.add_argument("--missing-as-zero", action="store_true",
                        help="write 0 for missing and unreadable students in the gradebook and "
                             "LMS import (default: blank, which an LMS reads as no submission)")
+    grade.add_argument("--overrides", metavar="FILE",
+                       help="the teacher's decisions, applied on every run: CSV with columns "
+                            "student,item,action,points,reason,who (action accept, points or "
+                            "waive-flag; item a_<key> or a_<key>!row)")
+    grade.add_argument("--items", metavar="KEYS",
+                       help="grade only these items (comma-separated a_ keys), e.g. this "
+                            "week's part of the pack")
+    grade.add_argument("--out-of", type=float, metavar="POINTS",
+                       help="scale every item so that the total is POINTS (a course weight)")
+    grade.add_argument("--lms", choices=("generic", "moodle", "canvas", "xuexitong"),
+                       default="generic",
+                       help="also write the import file of this LMS (moodle needs "
+                            "--lms-template; lms-import.csv is always written)")
+    grade.add_argument("--lms-template", metavar="CSV",
+                       help="the grading worksheet Moodle exported, filled in and kept whole")
+    grade.add_argument("--return", dest="returns", metavar="DIR",
+                       help="also write each student's own workbook back to DIR, every "
+                            "answer cell coloured and commented in the class's language, a "
+                            "score box on the first sheet, and DIR/<id>.html")
+    grade.add_argument("--quiet", action="store_true",
+                       help="no progress on the terminal (none is shown in a pipe anyway)")
 
     commands.add_parser("presets", help="list the presets")
     params_cmd = commands.add_parser("parameters", help="list the parameters of a preset")
@@ -142,11 +181,14 @@ def _build(args):
     overrides = parse_assignments(args.assignments)
     if args.cam_step is not None:
         overrides["cam_step"] = args.cam_step
-    results = compute(args.preset, group=args.group, pressure=args.pressure, step=args.step,
-                      **overrides)
+    from crankbook.progress import waiting
+    with waiting("build: computing", _progress(args)):
+        results = compute(args.preset, group=args.group, pressure=args.pressure,
+                          step=args.step, **overrides)
     default = args.preset if args.group is None else f"{args.preset}-group{args.group}"
     output = args.output if args.output is not None else f"output/{default}.xlsx"
-    path = results.to_excel(output, lang=args.lang)
+    with waiting(f"build: writing {output}", _progress(args)):
+        path = results.to_excel(output, lang=args.lang)
     elapsed = time.perf_counter() - started
     spec = results.spec
     facts = ", ".join(f"{key} {_shown(results[key])} {spec.quantity[key].unit}"
@@ -163,9 +205,26 @@ def _verify(args):
     from crankbook.api import verify
 
     started = time.perf_counter()
-    frame = verify(args.path, engine=args.engine)
+    frames = verify(list(args.paths), engine=args.engine, progress=_progress(args))
+    worst = 0
+    for path, frame in zip(args.paths, frames):
+        worst = max(worst, _report_verified(path, frame))
+    if len(frames) > 1:
+        failed = sum(1 for f in frames if f.attrs["inputs_break_rules"] or f.attrs["valid"] != 1
+                     or not f.ok.all())
+        print(f"{len(frames) - failed} of {len(frames)} workbooks agree with numpy "
+              f"({time.perf_counter() - started:.1f} s)")
+    return worst
+
+
+def _progress(args):
+    """Progress on a terminal unless --quiet (tqdm stays silent in a pipe)."""
+    return False if getattr(args, "quiet", False) else None
+
+
+def _report_verified(path, frame):
     attrs = frame.attrs
-    print(f"verify {args.path}: {attrs['engine']} recalculation vs numpy "
+    print(f"verify {path}: {attrs['engine']} recalculation vs numpy "
           f"({attrs['template']} workbook)")
     if attrs["inputs_break_rules"]:
         print(f"the workbook's inputs break a rule: {attrs['status']}")
@@ -180,11 +239,10 @@ def _verify(args):
         print(f"  {row.name:<46} {row.cells:>6} {row.error:>14.3g} {row.allowed:>10.2g}  "
               f"{'ok' if row.cached_ratio <= 1 else 'differs':>7}  {verdict}")
     bad = frame[~frame.ok]
-    elapsed = time.perf_counter() - started
     if len(bad):
-        print(f"{len(bad)} of {len(frame)} names differ from numpy ({elapsed:.1f} s)")
+        print(f"{len(bad)} of {len(frame)} names differ from numpy")
         return 1
-    print(f"all {len(frame)} names agree with numpy ({elapsed:.1f} s)")
+    print(f"all {len(frame)} names agree with numpy")
     return 0
 
 
@@ -199,13 +257,16 @@ def _audit(args):
         return _audit_workbook(target)
     names = claims.document_names() if target == "all" else [target]
     documents = [claims.load(name) for name in names]
-    output = Path(args.output or f"output/audit-{target}.xlsx")
-    if output.suffix.lower() != ".xlsx":
-        raise BuildOptionError(f"-o {output}: the audit workbook must end in .xlsx")
+    from crankbook.writer.build import check_output
+    output = check_output(args.output or f"output/audit-{target}.xlsx")
     # bad --sources is refused before anything is written; without it the seed texts
     # may come from $CRANKBOOK_SEEDS (they are needed to count the coverage)
     sources = args.sources or os.environ.get("CRANKBOOK_SEEDS") or None
     problems = _source_problems(documents, Path(sources)) if sources else None
+    from crankbook.progress import steps
+    for document in steps(documents, "audit: recomputing", progress=_progress(args),
+                          unit="document"):
+        document.findings()                  # computed once; the outputs read them
     write_audit_workbook(documents, output, sources)
     write_markdown(documents, output.with_suffix(".md"), sources)
     if args.json:
@@ -282,10 +343,19 @@ def _assign(args):
     from crankbook.assignment.results import words
 
     started = time.perf_counter()
-    count = assign(args.preset, args.roster, args.seed, args.lang, args.output)
+    count = assign(args.preset, args.roster, args.seed, args.lang, args.output,
+                   progress=_progress(args))
     print(words(args.lang)["cli_assigned"].format(output=args.output, count=count,
                                                   seconds=time.perf_counter() - started))
     return 0
+
+
+def _check(args):
+    from crankbook.assignment.check import check
+    report = check(args.file)
+    for line in report.lines:
+        print(line)
+    return 0 if report.complete else 1
 
 
 def _grade(args):
@@ -296,7 +366,11 @@ def _grade(args):
     started = time.perf_counter()
     summary = grade(args.directory, args.submissions, args.output, feedback=args.feedback,
                     previous=args.previous, keep=args.keep,
-                    missing_as_zero=args.missing_as_zero)
+                    missing_as_zero=args.missing_as_zero, progress=_progress(args),
+                    returns=args.returns, overrides=args.overrides,
+                    items=[k.strip() for k in args.items.split(",") if k.strip()]
+                    if args.items else None, out_of=args.out_of, lms=args.lms,
+                    lms_template=args.lms_template)
     print(words(summary["lang"])["cli_graded"].format(
         seconds=time.perf_counter() - started, **summary))
     return 0
@@ -339,7 +413,7 @@ def main(argv=None):
     signal.signal(signal.SIGTERM, _terminate)      # a kill cleans up like Ctrl-C
     args = _build_parser().parse_args(argv)
     handlers = {"build": _build, "verify": _verify, "audit": _audit, "assign": _assign,
-                "grade": _grade, "presets": _presets,
+                "grade": _grade, "check": _check, "presets": _presets,
                 "parameters": _parameters}
     try:
         return handlers[args.command](args)

@@ -9,22 +9,23 @@ others.  The results are built in a hidden directory and renamed into place.
 import csv
 import json
 import math
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 
 from crankbook import params
 from crankbook.evaluate import axis_sizes
-from crankbook.assignment import integrity, rounds
+from crankbook.assignment import exports, integrity, rounds
+from crankbook.assignment.overrides import apply as apply_overrides, read_overrides
 from crankbook.assignment import template as templates
 from crankbook.assignment.assign import MANIFEST, RUBRIC, SETTINGS
 from crankbook.assignment.key import answer_rows, expected, key_results
-from crankbook.assignment.results import FEEDBACK_MODES, write_results
+from crankbook.assignment.results import FEEDBACK_MODES, words, write_results
 from crankbook.assignment.scoring import (answer_in, answer_number, pair_positions,
                                           place_rows, score_item)
 from crankbook.assignment.submissions import discover, prepare, read, recalculate
 from crankbook.errors import AssignmentDirError, CrankbookError
+from crankbook.progress import steps
 from crankbook.workspace import check_directory, lock, staged_directory, sweep_temporary
 
 KEEP = ("latest", "best")
@@ -42,6 +43,7 @@ class Grade:
     files: list = field(default_factory=list)
     problem: str = ""
     round: int = 1                          # the round whose work this is
+    overrides: list = field(default_factory=list)  # the teacher's decisions applied, in words
 
     @property
     def score(self):
@@ -101,9 +103,11 @@ def manifest_values(spec, row):
     return params.validate(spec, values)
 
 
-def grade_submission(sub, manifest_row, assignment, spec, preset, lang, key=None):
+def grade_submission(sub, manifest_row, assignment, spec, preset, lang, key=None, part=None):
     """(items, problems) of one readable submission (``key``: the student's key
-    results, when already computed)."""
+    results, when already computed; ``part``: the items graded, with their points —
+    see :func:`part_of` — of the whole ``assignment``)."""
+    graded = (part or assignment).item
     values = manifest_values(spec, manifest_row)
     key = key or key_results(assignment, spec, preset, values)
     want = expected(assignment, spec, key)
@@ -139,14 +143,23 @@ def grade_submission(sub, manifest_row, assignment, spec, preset, lang, key=None
         if sheet.rows == "positions" and pairing is not None:
             rows_of_sheet = _sheet_pairing(sub, sheet, assignment, pairing, row_labels)
         for name in sheet.items:
-            item = assignment.item[name]
+            item = graded.get(name)
+            if item is None:
+                continue
             consequential = [own[name]["value"], *own[name]["alternatives"]] \
                 if own is not None and item.consequential else []
             answers = sub.answers.get(name, [])
+            # placement: the key row each of the file's cells was graded as (annotated
+            # returns colour the student's own cells)
             if sheet.rows not in ("scalar", "positions") and name in sub.row_labels:
                 rows = place_rows(sub.row_labels[name], row_labels)
                 answers = [answers[r] if r is not None and r < len(answers) else None
                            for r in rows]
+                sub.placement[name] = _inverse(rows, len(sub.answers.get(name, [])))
+            elif sheet.rows == "positions" and rows_of_sheet is not None:
+                sub.placement[name] = list(rows_of_sheet)
+            else:
+                sub.placement[name] = list(range(len(answers)))
             items[name] = score_item(item, rubric, answers, want[name],
                                      [str(x) for x in row_labels] if row_labels else None,
                                      rows_of_sheet if sheet.rows == "positions" else None,
@@ -154,6 +167,15 @@ def grade_submission(sub, manifest_row, assignment, spec, preset, lang, key=None
                                      pairing.angles if name == getattr(
                                          assignment.positions, "angle_item", None) else None)
     return items, problems
+
+
+def _inverse(rows, count):
+    """File row -> key row, from key row -> file row."""
+    out = [None] * count
+    for key_row, file_row in enumerate(rows):
+        if file_row is not None and file_row < count:
+            out[file_row] = key_row
+    return out
 
 
 def _sheet_pairing(sub, sheet, assignment, pairing, labels):
@@ -180,41 +202,69 @@ def choose(subs):
 
 
 def grade(directory, submissions, output=None, feedback="full", previous=None, keep="latest",
-          missing_as_zero=False, progress=True):
+          missing_as_zero=False, progress=None, returns=None, overrides=None, items=None,
+          out_of=None, lms="generic", lms_template=None):
     if feedback not in FEEDBACK_MODES:
         raise CrankbookError(f"--feedback {feedback!r}: choose {', '.join(FEEDBACK_MODES)}")
     if keep not in KEEP:
         raise CrankbookError(f"--keep {keep!r}: choose {', '.join(KEEP)}")
-    settings, assignment, roster = load_directory(directory)
+    settings, whole, roster = load_directory(directory)
+    assignment = part_of(whole, items, out_of)
+    decisions = read_overrides(overrides, {r["student_id"] for r in roster},
+                               set(assignment.item)) if overrides else []
+    exports.check_lms(lms, lms_template)
     lang = settings.get("lang", "zh")
     spec, _, preset = params.load_preset(settings["preset"])
     root = Path(submissions)
     if not root.is_dir():
         raise CrankbookError(f"{root}: no such folder of submissions")
     output = check_directory(output if output is not None else Path(directory) / "results")
+    returns = check_directory(returns) if returns is not None else None
     with lock(output):                 # a second run into the same results is refused now
         return _grade(assignment, roster, lang, spec, preset, root, output, feedback,
-                      previous, keep, missing_as_zero, progress)
+                      previous, keep, missing_as_zero, progress, returns,
+                      dict(whole=whole, decisions=decisions, lms=lms,
+                           lms_template=lms_template))
+
+
+def part_of(assignment, items=None, out_of=None):
+    """The assignment graded this time: only ``items`` (a_ keys or keys; None: all), every
+    item's points scaled so that the total is ``out_of`` (None: as written)."""
+    import dataclasses
+    chosen = assignment.items
+    if items:
+        wanted = [k[2:] if k.startswith("a_") else k for k in items]
+        unknown = [k for k in wanted if k not in assignment.item]
+        if unknown:
+            raise CrankbookError(f"--items: {', '.join(unknown)} is not an item of "
+                                 f"{assignment.key}; items are "
+                                 f"{', '.join(i.key for i in assignment.items)}")
+        chosen = [i for i in assignment.items if i.key in wanted]
+    total = sum(i.points for i in chosen)
+    if out_of is not None and not (out_of > 0 and math.isfinite(out_of)):
+        raise CrankbookError(f"--out-of {out_of:g}: must be a positive number")
+    factor = out_of / total if out_of is not None and total else 1.0
+    chosen = [dataclasses.replace(i, points=i.points * factor) for i in chosen]
+    keys = {i.key for i in chosen}
+    sheets = [dataclasses.replace(s, items=tuple(k for k in s.items if k in keys))
+              for s in assignment.sheets]
+    return dataclasses.replace(assignment, items=chosen, sheets=[s for s in sheets if s.items])
 
 
 def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previous, keep,
-           missing_as_zero, progress):
+           missing_as_zero, progress, returns=None, extra_options=None):
+    options = extra_options or {"whole": assignment, "decisions": [], "lms": "generic",
+                                "lms_template": None}
     sweep_temporary()                  # scratch copies and engines of killed runs
-    say = (lambda text: print(text, file=sys.stderr, flush=True)) if progress else \
-        (lambda text: None)
+    w = words(lang)
     earlier = rounds.load(previous, assignment) if previous else {}
 
-    shapes = answer_shapes(assignment, lang, spec)
+    shapes = answer_shapes(options["whole"], lang, spec)   # every answer: positions need angles
     subs = prepare(discover(root), root)
-    for number, sub in enumerate(subs, start=1):
+    for sub in steps(subs, w["progress_reading"], progress=progress):
         if not sub.problem:
             read(sub, shapes)
-        if progress and number % 10 == 0:
-            print(f"\rgrade: read {number}/{len(subs)} files", end="", file=sys.stderr,
-                  flush=True)
-    if progress and subs:
-        print(file=sys.stderr)
-    recalculate(subs, shapes, say)
+    recalculate(subs, shapes, progress, w["progress_recalculating"])
 
     by_id = {row["student_id"]: row for row in roster}
     _match(subs, by_id)
@@ -223,7 +273,7 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
              and not f.startswith("p_")]
     grades = {sid: Grade(student_id=sid, name=row["name"],
                          extra={f: row.get(f, "") for f in extra}) for sid, row in by_id.items()}
-    keys = _Keys(assignment, spec, preset, by_id)
+    keys = _Keys(options["whole"], spec, preset, by_id)
     mine = {}
     for sub in subs:
         if sub.student_id in grades:
@@ -245,36 +295,49 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
             g.status, g.problem = "unreadable", sub.problem
             continue
         try:
-            g.items, problems = grade_submission(sub, by_id[sid], assignment, spec, preset,
-                                                 lang, keys.results(sid))
+            g.items, problems = grade_submission(sub, by_id[sid], options["whole"], spec,
+                                                 preset, lang, keys.results(sid),
+                                                 part=assignment)
         except Exception as error:          # one student's file must not stop the class
             g.status, g.problem = "unreadable", f"could not be graded ({type(error).__name__})"
             continue
         g.status = "graded"
         for word, fields in problems:
             g.note("positions", word, **fields)
-        edited = _rows_edited(sub, answer_shapes(assignment, lang, spec,
+        edited = _rows_edited(sub, answer_shapes(options["whole"], lang, spec,
                                                  manifest_values(spec, by_id[sid])))
         if edited:
             g.note("rows-edited", "rows_edited", count=edited)
         _flag(g, sub, by_id, spec)
     graded = {sid: sub for sid, sub in chosen.items() if grades[sid].status == "graded"}
-    suspicions = integrity.find(grades, graded, {sid: integrity.numeric_answers(sub, assignment)
+    whole = options["whole"]          # copying is judged on the whole file
+    suspicions = integrity.find(grades, graded, {sid: integrity.numeric_answers(sub, whole)
                                                  for sid, sub in graded.items()},
-                                keys.all_expected(), assignment)
+                                keys.all_expected(), whole)
     for suspicion in suspicions:
         g = grades[suspicion.who]
         for kind in suspicion.kinds:
             if kind == "wrong_student_file":
                 g.note("wrong-student", "wrong_student", private=True, other=suspicion.whom)
             g.note("copy-suspect", f"suspect_{kind}", private=True, other=suspicion.whom or "")
+    this_round = dict(grades)
     for sid in grades:
         grades[sid] = rounds.keep(grades[sid], earlier.get(sid), keep)
+    apply_overrides(grades, options["decisions"], assignment)
     unmatched = [s for s in subs if s.student_id not in grades]
     with staged_directory(output, replace=True) as staging:
         write_results(staging, assignment, spec, lang, list(grades.values()), unmatched,
                       feedback=feedback, missing_as_zero=missing_as_zero,
                       suspicions=suspicions)
+        exports.write_lms(staging, options["lms"], options["lms_template"], assignment, lang,
+                          list(grades.values()), feedback, missing_as_zero)
+    if returns is not None:
+        from crankbook.assignment.annotate import write_returns
+        with staged_directory(returns, replace=True) as staging:
+            write_returns(staging, assignment, lang, list(grades.values()),
+                          # a grade kept from an earlier round is not this file's
+                          {sid: sub for sid, sub in chosen.items()
+                           if grades[sid] is this_round[sid]}, feedback)
     return {"graded": sum(g.status == "graded" for g in grades.values()),
             "missing": sum(g.status == "missing" for g in grades.values()),
             "unreadable": sum(g.status == "unreadable" for g in grades.values()),

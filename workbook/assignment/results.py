@@ -120,7 +120,8 @@ def gradebook_rows(assignment, lang, grades, unmatched, missing_as_zero):
     extra = list(grades[0].extra) if grades else []
     # fixed machine names (a second round and scripts read them), then words
     header = ["student_id", "name", *extra, "status", "status_text", "score", "max_score",
-              "flags", "flags_text", *[f"{i.label(lang)} (a_{i.key})" for i in items], "notes"]
+              "flags", "flags_text", *[f"{i.label(lang)} (a_{i.key})" for i in items], "notes",
+              "overrides"]
     rows = [header]
     for g in grades:
         notes = [say(w, word, **fields) for word, fields, _ in g.notes]
@@ -133,7 +134,7 @@ def gradebook_rows(assignment, lang, grades, unmatched, missing_as_zero):
                      assignment.max_score, ";".join(g.flags),
                      w["separator"].join(w.get(f"flag_{f}", f) for f in g.flags),
                      *[round(g.items[i.key][0], 2) if i.key in g.items else "" for i in items],
-                     w["separator"].join(notes)])
+                     w["separator"].join(notes), " | ".join(g.overrides)])
     for sub in unmatched:
         note = say(w, "unmatched", file=sub.relative)
         if sub.inside_id:
@@ -144,7 +145,7 @@ def gradebook_rows(assignment, lang, grades, unmatched, missing_as_zero):
             note += w["separator"] + say(w, "status_unreadable",
                                          reason=reason_text(sub.problem, lang))
         rows.append(["", "", *["" for _ in extra], "unmatched", w["state_unmatched"], "",
-                     assignment.max_score, "", "", *["" for _ in items], note])
+                     assignment.max_score, "", "", *["" for _ in items], note, ""])
     return rows
 
 
@@ -401,12 +402,14 @@ def write_class_report(path, assignment, lang, grades):
     dist.insert_chart(2, 5, hist)
 
     _class_statistics(book, w, assignment, grades, styles)
+    _item_analysis(book, w, assignment, lang, graded, styles)
 
     students = book.add_worksheet(w["report_students"])
     notes = {g.student_id: w["separator"].join(say(w, word, **fields)
                                                for word, fields, _ in g.notes)
              + ((w["separator"] if g.notes else "") + reason_text(g.problem, lang)
                 if g.problem else "")
+             + "".join(w["separator"] + w["override_note"].format(what=o) for o in g.overrides)
              for g in grades}
     for col, word in enumerate(["col_student_id", "col_name", "col_status", "col_score",
                                 "col_flags", "col_notes"]):
@@ -457,3 +460,78 @@ def _class_statistics(book, w, assignment, grades, styles):
             for col, value in enumerate((sum(totals) / len(totals), median, totals[0],
                                          totals[-1]), start=3):
                 ws.write_number(row, col, round(value, 2), styles.number("-", "0.00"))
+
+
+SLIP_KINDS = ("unit_slip", "sign_slip", "consequential", "not_a_number", "no_answer")
+
+
+def item_statistics(assignment, graded):
+    """Per item: difficulty (share of cells right), slips by kind, and discrimination
+    (mean fraction of the top third by total minus that of the bottom third)."""
+    ranked = sorted(graded, key=lambda g: g.score)
+    third = max(1, len(ranked) // 3)
+    low, high = ranked[:third], ranked[-third:]
+
+    def share(group, key):
+        values = [g.items[key][0] / item.points for g in group if key in g.items
+                  for item in [assignment.item[key]] if item.points]
+        return sum(values) / len(values) if values else 0.0
+    out = []
+    for item in assignment.items:
+        cells = [c for g in graded if item.key in g.items for c in g.items[item.key][1]]
+        right = sum(c.fraction >= 1.0 for c in cells)
+        slips = {kind: sum(c.reason == kind for c in cells) for kind in SLIP_KINDS}
+        out.append({"item": item, "cells": len(cells),
+                    "difficulty": right / len(cells) if cells else 0.0, "slips": slips,
+                    "discrimination": share(high, item.key) - share(low, item.key)
+                    if len(ranked) >= 3 else 0.0})
+    return out
+
+
+def _item_analysis(book, w, assignment, lang, graded, styles):
+    """What the class did not understand: each item's difficulty, slips and
+    discrimination, then a heat map of positions × quantities (share right)."""
+    ws = book.add_worksheet(w["report_analysis"])
+    ws.write(0, 0, w["report_analysis_title"], styles.title)
+    header = ["col_item", "col_difficulty", "col_discrimination",
+              *[f"col_{k}" for k in SLIP_KINDS]]
+    for col, word in enumerate(header):
+        ws.write(2, col, w[word], styles.header)
+    stats = item_statistics(assignment, graded)
+    percent = styles.number("-", "0%")
+    for row, entry in enumerate(stats, start=3):
+        ws.write(row, 0, entry["item"].label(lang))
+        ws.write_number(row, 1, entry["difficulty"], percent)
+        ws.write_number(row, 2, entry["discrimination"], styles.number("-", "0.00"))
+        for col, kind in enumerate(SLIP_KINDS, start=3):
+            ws.write_number(row, col, entry["slips"][kind])
+    last = 3 + len(stats) - 1
+    ws.conditional_format(3, 1, last, 1, {"type": "3_color_scale", "min_color": "#F8696B",
+                                          "mid_color": "#FFEB84", "max_color": "#63BE7B"})
+    ws.set_column(0, 0, _width([e["item"].label(lang) for e in stats], 20))
+    ws.set_column(1, len(header) - 1, 12)
+    ws.write(last + 2, 0, w["analysis_note"], styles.text)
+    # positions × quantities: the share of students right at each position
+    position_items = [s for s in assignment.sheets if s.rows == "positions"]
+    if assignment.positions is None or not position_items or not graded:
+        return
+    keys = [k for s in position_items for k in s.items]
+    labels = assignment.positions.labels(lang)
+    top = last + 4
+    ws.write(top, 0, w["heat_title"], styles.group)
+    ws.write(top + 1, 0, w["col_position"], styles.header)
+    for col, key in enumerate(keys, start=1):
+        ws.write(top + 1, col, assignment.item[key].label(lang), styles.header)
+    for row, label in enumerate(labels):
+        ws.write(top + 2 + row, 0, label)
+        for col, key in enumerate(keys, start=1):
+            cells = [g.items[key][1][row] for g in graded
+                     if key in g.items and row < len(g.items[key][1])]
+            if cells:
+                ws.write_number(top + 2 + row, col,
+                                sum(c.fraction >= 1.0 for c in cells) / len(cells), percent)
+    ws.conditional_format(top + 2, 1, top + 1 + len(labels), len(keys),
+                          {"type": "3_color_scale", "min_color": "#F8696B",
+                           "mid_color": "#FFEB84", "max_color": "#63BE7B",
+                           "min_type": "num", "min_value": 0, "max_type": "num",
+                           "max_value": 1, "mid_type": "num", "mid_value": 0.5})

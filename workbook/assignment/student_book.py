@@ -4,7 +4,7 @@ results: nothing the key computes is anywhere in the file."""
 import math
 import unicodedata
 
-import xlsxwriter
+from crankbook.writer.fast_sheet import FastWorkbook
 from xlsxwriter.utility import xl_rowcol_to_cell
 
 from crankbook.atomic import atomic_path
@@ -44,7 +44,7 @@ def write_student_workbook(path, assignment, spec, student, values, given, lang,
 
 
 def _write(filename, assignment, spec, student, values, given, lang, rows):
-    book = xlsxwriter.Workbook(filename, {"in_memory": True, "strings_to_numbers": False,
+    book = FastWorkbook(filename, {"in_memory": True, "strings_to_numbers": False,
                                           "strings_to_formulas": False,
                                           "strings_to_urls": False})
     book.set_properties({"title": assignment.name(lang), "author": "crankbook",
@@ -53,6 +53,7 @@ def _write(filename, assignment, spec, student, values, given, lang, rows):
     book.set_custom_property(PROPERTY_ROLE, "student")
     book.set_custom_property(PROPERTY_ASSIGNMENT, assignment.key)
     book.set_custom_property(PROPERTY_TEMPLATE, spec.key)
+    book.set_custom_property("crankbook_language", lang)     # crankbook check speaks it
     styles = Styles(book)
     names = {}
 

@@ -21,6 +21,7 @@ from crankbook import recalc
 from crankbook.errors import CrankbookError
 from crankbook.workbook_reader import parse_reference
 from crankbook.xlsx_reader import MAX_FILE, Unreadable, XlsxBook
+from crankbook.progress import waiting
 from crankbook.workspace import temporary_directory
 
 SUFFIXES = (".xlsx", ".xlsm", ".xls", ".xltx", ".xltm")
@@ -52,6 +53,7 @@ class Submission:
     digest: str = ""
     row_labels: dict = field(default_factory=dict)   # answer key -> labels beside its rows
     metadata: dict = field(default_factory=dict)     # creator, last saved by, created, …
+    placement: dict = field(default_factory=dict)    # answer key -> key row of each file row
 
 
 def shown_name(path, root):
@@ -191,15 +193,13 @@ def _safe_reason(error):
     return re.sub(r"(/[^\s:]+)+", "…", text)[:200]
 
 
-def recalculate(subs, shapes, progress=print):
+def recalculate(subs, shapes, progress=None, what="grade: recalculating in LibreOffice"):
     """Recalculate the submissions saved without values, one bad file costing only
     itself."""
     pending = [s for s in subs if s.needs_recalc and not s.problem]
     if not pending:
         return
-    progress(f"grade: recalculating {len(pending)} file(s) saved without values in "
-             f"LibreOffice")
-    with temporary_directory("grade") as tmp:
+    with temporary_directory("grade") as tmp, waiting(f"{what} ({len(pending)})", progress):
         tmp = Path(tmp)
         staged = []
         for number, sub in enumerate(pending):
