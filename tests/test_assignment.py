@@ -691,6 +691,12 @@ def test_every_drawn_variant_passes_every_check():
         for check in checks:
             assert np.all(np.asarray(key.results[check]) == 1), (sid, check)
         assert key.results["min_transmission_angle"] >= 45.0
+    # the whole valve train varies: gears, laws, angles and timing (issue 27)
+    for name in ("gear_teeth", "intake_rise_law", "exhaust_return_law", "intake_rise_angle",
+                 "intake_opens", "exhaust_closes"):
+        assert len({repr(v[name]) for v in drawn.values()}) > 2, name
+    teeth = {tuple(v["gear_teeth"]) for v in drawn.values()}
+    assert all(t[-1] == 2 * t[0] for t in teeth)          # the cam turns at half speed
 
 
 def test_the_student_workbook_gives_the_gear_data(pack):

@@ -22,12 +22,25 @@ def student_rng(seed, student_id):
     return np.random.default_rng(int.from_bytes(digest[:8], "big"))
 
 
+def _choice(value):
+    """A drawn choice as the workbook takes it: a number, a list (a per-item
+    parameter: teeth of each gear), or a word (a motion law) left for validate."""
+    if isinstance(value, (list, tuple)):
+        return [float(v) for v in value]
+    return value if isinstance(value, str) else float(value)
+
+
 def _draw(assignment, base, rng):
     values = dict(base)
     formulas = {}
     for key, rule in assignment.variant.items():
         if "choices" in rule:
-            values[key] = float(rule["choices"][int(rng.integers(len(rule["choices"])))])
+            # ``with``: companion parameters drawn at the same index (a gear train's
+            # teeth and the profile shifts that keep its small gear from undercutting)
+            index = int(rng.integers(len(rule["choices"])))
+            values[key] = _choice(rule["choices"][index])
+            for other, options in rule.get("with", {}).items():
+                values[other] = _choice(options[index])
         elif "formula" in rule:
             formulas[key] = rule
         else:
@@ -84,6 +97,8 @@ def draw_class(assignment, spec, base, student_ids, seed):
         rng = student_rng(seed, sid)
         for _ in range(MAX_ATTEMPTS):
             values = _draw(assignment, base, rng)
+            values.update({k: params.coerce(spec.parameter[k], v) for k, v in values.items()
+                           if isinstance(v, str)})          # a law's word: its index
             mark = fingerprint(values, keys)
             if mark not in used and acceptable(assignment, spec, values):
                 used.add(mark)
