@@ -1,9 +1,13 @@
 """Shared fixtures.  The spreadsheet-engine tests fail, never skip, when LibreOffice
 or Gnumeric is missing: the cross-checks are the point of the suite, and ./dev test
 installs both."""
+import contextlib
 import copy
+import io
+import os
 import subprocess
 import sys
+import traceback
 from pathlib import Path
 
 import openpyxl
@@ -60,30 +64,56 @@ def ssconvert():
     return _engine(find_ssconvert, "Gnumeric (ssconvert)", "gnumeric")
 
 
-def run_cli(*args, cwd=None, timeout=600, stdin=None):
-    """Run ``python -m crankbook`` as a user would; returns the CompletedProcess."""
-    return subprocess.run([sys.executable, "-m", "crankbook", *map(str, args)],
-                          capture_output=True, text=True, cwd=cwd or ROOT, timeout=timeout,
-                          input=stdin)
+def run_cli(*args, cwd=None, timeout=None, stdin=None):
+    """Run the command line as a user would; returns a CompletedProcess.
+
+    In this process (crankbook.cli.main, stdout and stderr captured, an exception
+    turned into exit 1 and its traceback, as Python would print it): a new Python
+    per call would cost half a second of imports and template loading, a third of
+    the quick suite.  A separate ``python -m crankbook`` where the call needs one —
+    another directory, input on stdin, a time limit (a run that could hang) — or
+    everywhere with CRANKBOOK_TEST_SUBPROCESS=1."""
+    argv = [str(a) for a in args]
+    if cwd is not None or stdin is not None or timeout is not None or \
+            os.environ.get("CRANKBOOK_TEST_SUBPROCESS") or Path.cwd() != ROOT:
+        return subprocess.run([sys.executable, "-m", "crankbook", *argv], capture_output=True,
+                              text=True, cwd=cwd or ROOT, timeout=timeout or 600, input=stdin)
+    from crankbook import cli
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = cli.main(argv)
+        except SystemExit as exit_:              # argparse: --help, usage errors
+            code = exit_.code if isinstance(exit_.code, int) else (0 if exit_.code is None
+                                                                   else 1)
+        except Exception:                        # what Python would print and exit with
+            traceback.print_exc()
+            code = 1
+    return subprocess.CompletedProcess(["crankbook", *argv], code, out.getvalue(),
+                                       err.getvalue())
 
 
 _NAMED = {}
 
 
-def named(path, prefixes=("p_", "q_")):
+def named(path, prefixes=("p_", "q_"), only=None):
     """name -> value (one cell) or list of values, of a workbook's defined names
-    (remembered per file version: many tests read the same key workbooks)."""
+    (``only``: just these names — only their sheets are parsed; remembered per file
+    version: many tests read the same key workbooks)."""
     stat = Path(path).stat()
-    memo = (str(Path(path).resolve()), stat.st_mtime_ns, stat.st_size, tuple(prefixes))
+    only = tuple(sorted(only)) if only else None
+    memo = (str(Path(path).resolve()), stat.st_mtime_ns, stat.st_size, tuple(prefixes), only)
     if memo not in _NAMED:
-        _NAMED[memo] = _read_named(path, prefixes)
+        _NAMED[memo] = _read_named(path, only or prefixes, only)
     return copy.deepcopy(_NAMED[memo])
 
 
-def _read_named(path, prefixes):
+def _read_named(path, prefixes, only=None):
     book = open_book(path)
     out = {}
     for name, found in defined_ranges(book, prefixes).items():
+        if only and name not in only:
+            continue
         values = cells(book, found)
         out[name] = values[0] if found.rows * found.cols == 1 else values
     return out

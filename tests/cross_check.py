@@ -26,7 +26,8 @@ WORKBOOKS = {
     "thesis_offset_en": {"args": ["--set", "offset=12", "--set", "exact_kinematics=1",
                                   "--set", "rod_length=165", "--lang",
                                   "en", "--step", "2"]},
-    "thesis_exact": {"args": ["--set", "exact_kinematics=1", "--set", "speed=3200"]},
+    "thesis_exact": {"args": ["--set", "exact_kinematics=1", "--set", "speed=3200", "--step",
+                              "2"]},
     "thesis_measured": {"args": ["--pressure", "{trace}", "--step", "0.5"]},
     "thesis_edit_offset": {"edit_of": "thesis_step3",
                            "edits": {"offset": -9.0, "rod_length": 172.0, "bore": 92.0,
@@ -96,7 +97,7 @@ WORKBOOKS = {
                                          "alternative_stroke": 104.0, "counterweights": 1.0,
                                          "exhaust_valve_opening": 480.0}},
     "inline4_check_throw3": {"args": ["--preset", "inline-4", "--set", "check_throw=3",
-                                      "--set", "counterweights=1", "--step", "2"]},
+                                      "--set", "counterweights=1", "--step", "4"]},
     "inline4_invalid_throw": {"edit_of": "inline4", "edits": {"throw": [1.0, 1.0, 3.0, 4.0]},
                               "valid": False},
     # the speed range (issue 21): a measured trace per speed, on one and eight cylinders

@@ -368,7 +368,9 @@ def test_synthesis_key_matches_an_independent_synthesis(pack):
     with open(pack / "manifest.csv", newline="", encoding="utf-8-sig") as handle:
         rows = list(csv.DictReader(handle))
     for row in rows:
-        values = key_answers(pack, row["student_id"])
+        values = named(pack / "keys" / f"{row['student_id']}.xlsx",
+                       only={"q_crank_radius", "q_rod_length"})
+        values = {k[2:]: v for k, v in values.items()}
         H, e, K = (float(row[f"p_{k}"]) / s for k, s in
                    (("stroke", 1000), ("offset", 1000), ("time_ratio", 1)))
         assert values["crank_radius"] == pytest.approx(
@@ -386,7 +388,8 @@ def test_variants_are_distinct_valid_and_printable(pack):
     for row in rows:
         assert float(row["p_stroke"]) % 10 == 0 and float(row["p_offset"]).is_integer()
         assert round(float(row["p_time_ratio"]), 2) == float(row["p_time_ratio"])
-        names = named(pack / "keys" / f"{row['student_id']}.xlsx")
+        names = named(pack / "keys" / f"{row['student_id']}.xlsx",
+                      only={"q_min_transmission_angle", "q_raw_crank_angle"})
         assert names["q_min_transmission_angle"] >= 45.0
         raw = np.sort(np.asarray(names["q_raw_crank_angle"]) % 360)
         assert np.diff(np.concatenate([raw, [raw[0] + 360]])).min() >= 4.0
@@ -397,7 +400,14 @@ def test_no_answer_leaks_into_student_files(pack):
         with zipfile.ZipFile(pack / "students" / f"{sid}.xlsx") as archive:
             blob = b"".join(archive.read(n) for n in archive.namelist())
         assert b"<f>" not in blob, "student files carry no formulas"
-        values = key_answers(pack, sid)
+        keys = ("crank_radius", "rod_length", "extreme_angle", "flywheel_inertia",
+                "pos_resisting_torque", "pos_balancing_torque", "pos_slider_velocity",
+                "pos_crank_angle")
+        names = named(pack / "keys" / f"{sid}.xlsx",       # only the sheets these are on
+                      only={"q_raw_crank_angle", *(f"q_{k}" for k in keys)})
+        rows = guide_order(names)
+        values = {k: [names[f"q_{k}"][i] for i in rows] if k in POSITION_ITEMS
+                  else names[f"q_{k}"] for k in keys}
         secrets = [values["crank_radius"], values["rod_length"], values["extreme_angle"],
                    values["flywheel_inertia"], values["pos_resisting_torque"],
                    *values["pos_balancing_torque"][1:6], *values["pos_slider_velocity"][1:6],
@@ -951,3 +961,59 @@ def test_part_of_the_pack_and_item_statistics(pack, tmp_path):
     assert stats["crank_radius"]["discrimination"] == 0.0
     report = openpyxl.load_workbook(tmp_path / "week1" / "class-report.xlsx")
     assert "题目分析" in report.sheetnames
+
+
+def test_groups_share_the_guides_table_and_keep_their_own_valve_trains(tmp_path):
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名,组号\ng01,甲,10\ng02,乙,10\ng03,丙,11\n", encoding="gbk")
+    done = run_cli("assign", "--preset", "course-design", "--roster", roster, "--groups",
+                   "-o", tmp_path / "class")
+    assert done.returncode == 0, done.stderr
+    with open(tmp_path / "class" / "manifest.csv", newline="", encoding="utf-8-sig") as f:
+        rows = {r["student_id"]: r for r in csv.DictReader(f)}
+    # 附表1's own rows: group 10 is H = 360, D = 195, e = 60; group 11 H = 380, D = 200
+    assert [float(rows[s]["p_stroke"]) for s in ("g01", "g02", "g03")] == [360, 360, 380]
+    assert float(rows["g01"]["p_offset"]) == float(rows["g02"]["p_offset"]) == 60
+    assert rows["g01"]["fingerprint"] != rows["g02"]["fingerprint"]      # own valve trains
+    teacher = tmp_path / "groups.csv"
+    teacher.write_text("组号,stroke,offset\n10,250,30\n11,260,35\n", encoding="gbk")
+    done = run_cli("assign", "--preset", "course-design", "--roster", roster, "--groups",
+                   teacher, "-o", tmp_path / "own")
+    assert done.returncode == 0, done.stderr
+    with open(tmp_path / "own" / "manifest.csv", newline="", encoding="utf-8-sig") as f:
+        rows = {r["student_id"]: r for r in csv.DictReader(f)}
+    assert float(rows["g03"]["p_stroke"]) == 260 and float(rows["g01"]["p_offset"]) == 30
+    teacher.write_text("组号,stroke\n10,250\n", encoding="utf-8")
+    done = run_cli("assign", "--preset", "course-design", "--roster", roster, "--groups",
+                   teacher, "-o", tmp_path / "bad")
+    assert done.returncode == 2 and "group 11" in done.stderr and done.stderr.count("\n") == 1
+    plain = tmp_path / "plain.csv"
+    plain.write_text("student_id,name\na1,A\n", encoding="utf-8")
+    done = run_cli("assign", "--preset", "course-design", "--roster", plain, "--groups",
+                   "-o", tmp_path / "none")
+    assert done.returncode == 2 and "组号" in done.stderr
+    assert not (tmp_path / "bad").exists() and not (tmp_path / "none").exists()
+
+
+def test_a_teachers_own_assignment_file(tmp_path):
+    from crankbook import resources
+    text = resources.read_text(templates.ASSIGNMENTS, "course-design.toml")
+    text = text.replace("stroke = { min = 200.0, max = 400.0, step = 10.0 }",
+                        "stroke = { min = 250.0, max = 250.0, step = 10.0 }")
+    own = tmp_path / "my-course.toml"
+    own.write_text(text, encoding="utf-8")
+    roster = tmp_path / "roster.csv"
+    roster.write_text("student_id,name\nt1,A\nt2,B\n", encoding="utf-8")
+    done = run_cli("assign", "--roster", roster, "--assignment", own, "-o", tmp_path / "class")
+    assert done.returncode == 0, done.stderr
+    with open(tmp_path / "class" / "manifest.csv", newline="", encoding="utf-8-sig") as f:
+        assert {float(r["p_stroke"]) for r in csv.DictReader(f)} == {250.0}
+    assert (tmp_path / "class" / "assignment.toml").read_text("utf-8") == text
+    fill(tmp_path / "class" / "students" / "t1.xlsx", tmp_path / "subs" / "t1.xlsx",
+         key_answers(tmp_path / "class", "t1"))
+    done = run_cli("grade", tmp_path / "class", tmp_path / "subs", "-o", tmp_path / "res")
+    assert done.returncode == 0, done.stderr
+    assert float(read_gradebook(tmp_path / "res")[0]["t1"]["score"]) == 100.0
+    own.write_text("[assignment]\nkey = 'x'\n", encoding="utf-8")
+    done = run_cli("assign", "--roster", roster, "--assignment", own, "-o", tmp_path / "bad")
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr

@@ -110,6 +110,15 @@ def _build_parser():
     assign.add_argument("--seed", type=int, default=1, help="variant seed (default 1)")
     assign.add_argument("--lang", choices=LANGS, default="zh")
     assign.add_argument("-o", "--output", required=True, metavar="DIR")
+    assign.add_argument("--assignment", metavar="FILE",
+                        help="a teacher's own assignment template (a copy of "
+                             "templates/assignments/course-design.toml with other ranges, "
+                             "items or points); its preset is used")
+    assign.add_argument("--groups", nargs="?", const="preset", metavar="FILE",
+                        help="group mode: every student of a roster group (组号/group column) "
+                             "shares the group's values — the preset's table (the guide's "
+                             "附表1) or FILE (CSV or TOML: number/组号 and parameter keys); "
+                             "the rest (the valve train) is still drawn per student")
     assign.add_argument("--quiet", action="store_true",
                         help="no progress on the terminal (none is shown in a pipe anyway)")
 
@@ -344,7 +353,8 @@ def _assign(args):
 
     started = time.perf_counter()
     count = assign(args.preset, args.roster, args.seed, args.lang, args.output,
-                   progress=_progress(args))
+                   progress=_progress(args), groups=args.groups,
+                   assignment_file=args.assignment)
     print(words(args.lang)["cli_assigned"].format(output=args.output, count=count,
                                                   seconds=time.perf_counter() - started))
     return 0

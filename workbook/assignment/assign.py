@@ -13,6 +13,7 @@ from pathlib import Path
 
 from crankbook import __version__, params, resources
 from crankbook.assignment import template as templates
+from crankbook.assignment.groups import fixed_values
 from crankbook.assignment.key import answer_rows, given_trace, key_results
 from crankbook.assignment.roster import read_roster
 from crankbook.assignment.student_book import write_student_workbook
@@ -43,9 +44,10 @@ def _die_with_parent():
 
 
 @lru_cache(maxsize=None)
-def _setup(preset, assignment_key):
+def _setup(preset, assignment_key, assignment_file=None):
     spec, _, meta = params.load_preset(preset)
-    return spec, meta, templates.load(assignment_key)
+    return spec, meta, templates.load(assignment_key, Path(assignment_file)
+                                      if assignment_file else None)
 
 
 _WRITTEN = [0]
@@ -56,8 +58,8 @@ def write_student(job):
     _WRITTEN[0] += 1
     if _WRITTEN[0] % 10 == 0 and not gc.isenabled():
         gc.collect()
-    preset, assignment_key, row, drawn, lang, staging = job
-    spec, meta, assignment = _setup(preset, assignment_key)
+    preset, (assignment_key, assignment_file), row, drawn, lang, staging = job
+    spec, meta, assignment = _setup(preset, assignment_key, assignment_file)
     staging = Path(staging)
     sid = row["student_id"]
     values = params.validate(spec, dict(drawn))
@@ -78,20 +80,31 @@ def _manifest_value(value):
     return float(value)
 
 
-def assign(preset, roster_path, seed, lang, outdir, progress=None):
+def assign(preset, roster_path, seed, lang, outdir, progress=None, groups=None,
+           assignment_file=None):
+    """Write the class directory; ``groups``: None, "preset" (the preset's group table)
+    or a teacher's group table file — each roster group shares that row's values;
+    ``assignment_file``: a teacher's own assignment template (its preset is used)."""
     outdir = check_directory(outdir)          # before any work: a bad -o is one line now
-    spec, base, _ = params.load_preset(preset)
-    assignment = templates.for_preset(preset)
+    if assignment_file is not None:
+        assignment = templates.load(Path(assignment_file).stem, Path(assignment_file))
+        preset = assignment.preset
+    spec, base, meta = params.load_preset(preset)       # an unknown preset is named first
+    if assignment_file is None:
+        assignment = templates.for_preset(preset)
     rows, fields = read_roster(roster_path)
     ids = [r["student_id"] for r in rows]
+    fixed = fixed_values(spec, meta, groups, rows) if groups else None
     w = words(lang)
     with waiting(w["progress_drawing"].format(count=len(ids)), progress):
-        variants = draw_class(assignment, spec, base, ids, seed)
+        variants = draw_class(assignment, spec, base, ids, seed, fixed)
     keys = [p.key for p in spec.parameters]
     with staged_directory(outdir) as staging:
         (staging / "keys").mkdir()
         (staging / "students").mkdir()
-        jobs = [(preset, assignment.key, row, variants[row["student_id"]], lang, str(staging))
+        source = (assignment.key, str(Path(assignment_file).resolve()) if assignment_file
+                  else None)
+        jobs = [(preset, source, row, variants[row["student_id"]], lang, str(staging))
                 for row in rows]
         workers = max(1, min(os.cpu_count() or 1, len(jobs)))
         with ProcessPoolExecutor(max_workers=workers, initializer=_die_with_parent) as pool:
@@ -105,10 +118,13 @@ def assign(preset, roster_path, seed, lang, outdir, progress=None):
             table.append([row["student_id"], row["name"], *[row.get(f, "") for f in extra],
                           *[_manifest_value(values[k]) for k in keys], fingerprint(values, keys)])
         (staging / MANIFEST).write_text(csv_text(table), encoding="utf-8-sig", newline="")
-        (staging / RUBRIC).write_text(resources.read_text(templates.ASSIGNMENTS,
-                                                          f"{assignment.key}.toml"),
-                                      encoding="utf-8")
+        # the class keeps the template it was assigned with: grade reads this copy
+        (staging / RUBRIC).write_text(
+            Path(assignment_file).read_text(encoding="utf-8") if assignment_file else
+            resources.read_text(templates.ASSIGNMENTS, f"{assignment.key}.toml"),
+            encoding="utf-8")
         (staging / SETTINGS).write_text(json.dumps(
             {"assignment": assignment.key, "preset": preset, "seed": seed, "lang": lang,
+             "groups": str(groups) if groups else None,
              "crankbook": __version__}, indent=1) + "\n", encoding="utf-8")
     return len(rows)

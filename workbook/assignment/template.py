@@ -144,8 +144,14 @@ def for_preset(preset):
 def load(name, path=None):
     """An assignment template by name, or from ``path`` (the copy in a class directory)."""
     if path is not None:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
+        try:
+            with open(path, "rb") as handle:
+                data = tomllib.load(handle)
+        except OSError as error:
+            raise UnknownPresetError(f"assignment {path}: cannot be read "
+                                     f"({error.strerror})") from None
+        except tomllib.TOMLDecodeError as error:
+            raise SpecError(str(path), "toml", str(error)) from None
         file = str(path)
     elif resources.is_safe_name(name) and resources.exists(ASSIGNMENTS, f"{name}.toml"):
         data = resources.read_toml(ASSIGNMENTS, f"{name}.toml")
@@ -153,6 +159,10 @@ def load(name, path=None):
     else:
         raise UnknownPresetError(f"unknown assignment {name!r}; assignments are "
                                  f"{', '.join(names())}")
+    missing = [t for t in ("assignment", "rubric", "item", "sheet", "variant") if t not in data]
+    if missing:
+        raise SpecError(file, missing[0], "missing: an assignment file needs [assignment], "
+                                          "[variant], [rubric], [[sheet]] and [[item]]")
     head, rubric = data["assignment"], data["rubric"]
     default_slips = tuple(rubric.get("slips", SLIPS))
     items = []

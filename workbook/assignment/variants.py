@@ -30,10 +30,14 @@ def _choice(value):
     return value if isinstance(value, str) else float(value)
 
 
-def _draw(assignment, base, rng):
+def _draw(assignment, base, rng, fixed=None):
     values = dict(base)
     formulas = {}
+    fixed = fixed or {}
     for key, rule in assignment.variant.items():
+        if key in fixed:
+            rng.random()          # the draw keeps its pace: a group changes no other value
+            continue
         if "choices" in rule:
             # ``with``: companion parameters drawn at the same index (a gear train's
             # teeth and the profile shifts that keep its small gear from undercutting)
@@ -46,6 +50,7 @@ def _draw(assignment, base, rng):
         else:
             count = int(round((rule["max"] - rule["min"]) / rule["step"]))
             values[key] = round(rule["min"] + rule["step"] * int(rng.integers(count + 1)), 6)
+    values.update(fixed)
     for key, rule in formulas.items():
         try:
             value = arithmetic(rule["formula"], values)
@@ -89,14 +94,15 @@ def fingerprint(values, keys):
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def draw_class(assignment, spec, base, student_ids, seed):
-    """student_id -> parameter values, reproducible for the same ids and seed."""
+def draw_class(assignment, spec, base, student_ids, seed, fixed=None):
+    """student_id -> parameter values, reproducible for the same ids and seed;
+    ``fixed``: student_id -> values every draw of that student keeps (their group's)."""
     out, used = {}, set()
     keys = sorted(assignment.variant)
     for sid in student_ids:
         rng = student_rng(seed, sid)
         for _ in range(MAX_ATTEMPTS):
-            values = _draw(assignment, base, rng)
+            values = _draw(assignment, base, rng, (fixed or {}).get(sid))
             values.update({k: params.coerce(spec.parameter[k], v) for k, v in values.items()
                            if isinstance(v, str)})          # a law's word: its index
             mark = fingerprint(values, keys)
@@ -105,6 +111,9 @@ def draw_class(assignment, spec, base, student_ids, seed):
                 out[sid] = values
                 break
         else:
+            why = "; its group's parameters may make no valid mechanism" if fixed and sid in \
+                fixed else ""
             raise CrankbookError(f"could not draw a valid, distinct parameter set for {sid!r} "
-                                 f"in {MAX_ATTEMPTS} attempts; widen the template's ranges")
+                                 f"in {MAX_ATTEMPTS} attempts{why}; widen the template's "
+                                 f"ranges")
     return out
