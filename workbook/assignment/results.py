@@ -495,8 +495,11 @@ def _item_analysis(book, w, assignment, lang, graded, styles):
     ws.write(0, 0, w["report_analysis_title"], styles.title)
     header = ["col_item", "col_difficulty", "col_discrimination",
               *[f"col_{k}" for k in SLIP_KINDS]]
+    wrapped = book.add_format({"bold": True, "text_wrap": True, "valign": "top",
+                               "border": 1, "bg_color": "#DDEBF7"})
     for col, word in enumerate(header):
-        ws.write(2, col, w[word], styles.header)
+        ws.write(2, col, w[word], wrapped)
+    ws.set_row(2, 32)                  # headers wrap in their column, never cut
     stats = item_statistics(assignment, graded)
     percent = styles.number("-", "0%")
     for row, entry in enumerate(stats, start=3):
@@ -519,9 +522,10 @@ def _item_analysis(book, w, assignment, lang, graded, styles):
     labels = assignment.positions.labels(lang)
     top = last + 4
     ws.write(top, 0, w["heat_title"], styles.group)
-    ws.write(top + 1, 0, w["col_position"], styles.header)
+    ws.write(top + 1, 0, w["col_position"], wrapped)
     for col, key in enumerate(keys, start=1):
-        ws.write(top + 1, col, assignment.item[key].label(lang), styles.header)
+        ws.write(top + 1, col, assignment.item[key].label(lang), wrapped)
+    ws.set_row(top + 1, 46)
     for row, label in enumerate(labels):
         ws.write(top + 2 + row, 0, label)
         for col, key in enumerate(keys, start=1):
