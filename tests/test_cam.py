@@ -43,7 +43,6 @@ def test_pitch_curve_radius_and_pressure_angle_are_the_geometry():
     # pressure angle: the angle between the follower's path (the y axis turned by δ)
     # and the normal of the pitch curve, from the tangent of the curve
     x1, y1 = np.gradient(x, delta), np.gradient(y, delta)
-    along = np.array([np.sin(delta), np.cos(delta)])        # follower direction at δ
     normal = np.array([y1, -x1]) / np.hypot(x1, y1)
     geometric = np.arcsin(np.clip(np.abs(np.sum(normal * np.array(
         [np.cos(delta), -np.sin(delta)]), axis=0)), 0, 1))

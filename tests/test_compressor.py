@@ -25,7 +25,7 @@ def test_pressure_is_continuous_through_every_phase(seed):
 
 
 def test_phase_boundaries_are_the_closed_forms(seed):
-    s, par, g = seed.scalars, seed.parameters, seed.series()
+    s, par = seed.scalars, seed.parameters
     r, l = par["crank_radius"], par["rod_length"]
     for i in (1, 2, 3):
         column = int(par["stage_column"][i - 1])
