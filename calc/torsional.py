@@ -1,0 +1,213 @@
+"""Torsional vibration of a crankshaft: the equivalent mass–spring system, Holzer's
+table, natural frequencies and mode shapes, critical speeds, and the vector sums of
+relative amplitudes that tell which orders a firing order excites.
+
+The system is a chain of stations, front to back — pulley (or damper), one station
+per throw, flywheel — with a mass moment of inertia J_i at each and a torsional
+stiffness k_i for the shaft between station i and i + 1.  Free vibration at circular
+frequency ω: with amplitude θ_1 = 1 at the front, Holzer's recurrence
+
+    T_i = T_(i−1) + J_i·ω²·θ_i    (the shaft torque behind station i, T_0 = 0)
+    θ_(i+1) = θ_i − T_i / k_i
+
+ends in a residual torque T_n that is zero exactly at a natural frequency.  A
+spreadsheet finds those zeros on a grid of trial frequencies; :func:`holzer_frequencies`
+does the same arithmetic (the same grid, the same linear interpolation of each sign
+change), so the workbook's cells and numpy agree to rounding, and
+:func:`natural_frequencies` (the generalised eigenvalues of K·v = ω²·J·v) is the
+independent check.
+
+Units: J in kg·m², k in N·m/rad, ω in rad/s, f in Hz, lengths in metres, angles in
+radians, speeds in r/min.
+
+References
+----------
+Den Hartog, J. P., *Mechanical Vibrations*, 4th ed., McGraw-Hill, 1956, §5.6
+(Holzer's method) and §5.8 (engine orders).
+Ker Wilson, W., *Practical Solution of Torsional Vibration Problems*, vol. 1, 3rd ed.,
+Chapman & Hall, 1956 (Carter's formula for the stiffness of a crank throw).
+Thesis 000 §1 (vibration among the high-speed engine's problems); seed 004 (the
+reciprocating mass's mean equivalent m_j·r²·(1/2 + λ²/8)).
+"""
+import numpy as np
+
+ORDERS = tuple(k / 2 for k in range(1, 25))          # 0.5, 1, …, 12
+
+
+# ---------------------------------------------------------------- the equivalent system
+def throw_inertia(rotating_mass, reciprocating_mass, crank_radius, crank_ratio,
+                  web_inertia=0.0):
+    """Mass moment of inertia of one throw's station about the crankshaft axis.
+
+    Parameters
+    ----------
+    rotating_mass : float or array
+        Mass turning at the crank radius (the crank pin's share of the rods'
+        big ends and the unbalanced crank mass reduced to the pin) [kg].
+    reciprocating_mass : float or array
+        Piston group and the rods' small-end share m_j [kg].
+    crank_radius : float
+        r [m].
+    crank_ratio : float
+        λ = r/l [-].
+    web_inertia : float or array
+        Both webs of the throw together, about the crankshaft axis [kg·m²].
+
+    Returns
+    -------
+    J : float or array [kg·m²]
+        m_r·r² + m_j·r²·(1/2 + λ²/8) + J_web — the reciprocating mass by its mean
+        over a turn (the same mean as seed 004's equivalent ring mass).
+    """
+    r2 = np.asarray(crank_radius, dtype=float) ** 2
+    return (np.asarray(rotating_mass, dtype=float) * r2 +
+            np.asarray(reciprocating_mass, dtype=float) * r2 * (0.5 + crank_ratio ** 2 / 8.0)
+            + np.asarray(web_inertia, dtype=float))
+
+
+def polar_moment(diameter, bore=0.0):
+    """Polar second moment of area of a (hollow) round section, π(D⁴ − d⁴)/32 [m⁴]."""
+    return np.pi * (np.asarray(diameter, dtype=float) ** 4 -
+                    np.asarray(bore, dtype=float) ** 4) / 32.0
+
+
+def carter_equivalent_length(journal_diameter, journal_length, pin_diameter, pin_length,
+                             web_thickness, web_width, crank_radius, journal_bore=0.0,
+                             pin_bore=0.0):
+    """Length of plain journal-diameter shaft as stiff in torsion as one crank throw
+    (journal to journal), by Carter's formula (Ker Wilson, vol. 1):
+
+        L_e = D_j⁴·[(l_j + 0.8·h)/(D_j⁴ − d_j⁴) + 0.75·l_p/(D_p⁴ − d_p⁴) + 1.5·r/(h·b³)]
+
+    with D, d the journal's and pin's outer and bore diameters, l their lengths, h the
+    web thickness (along the axis), b the web width and r the crank radius [m].
+    """
+    dj4 = np.asarray(journal_diameter, dtype=float) ** 4
+    return dj4 * ((journal_length + 0.8 * web_thickness) /
+                  (dj4 - np.asarray(journal_bore, dtype=float) ** 4) +
+                  0.75 * pin_length / (np.asarray(pin_diameter, dtype=float) ** 4 -
+                                       np.asarray(pin_bore, dtype=float) ** 4) +
+                  1.5 * crank_radius / (web_thickness * web_width ** 3))
+
+
+def shaft_stiffness(shear_modulus, diameter, length, bore=0.0):
+    """Torsional stiffness G·I_p/L of a round shaft [N·m/rad] (G in Pa, D, d, L in m)."""
+    return shear_modulus * polar_moment(diameter, bore) / np.asarray(length, dtype=float)
+
+
+# ---------------------------------------------------------------- Holzer's table
+def holzer(omega, inertia, stiffness):
+    """Holzer's table at circular frequencies ``omega``.
+
+    Parameters
+    ----------
+    omega : float or array (m,)
+        Trial circular frequencies [rad/s].
+    inertia : array (n,)
+        J of the stations, front to back [kg·m²].
+    stiffness : array (n − 1,)
+        k of the shaft between neighbouring stations [N·m/rad].
+
+    Returns
+    -------
+    amplitude : array (m, n)
+        θ_i for θ_1 = 1 [rad per rad of the front station].
+    torque : array (m, n)
+        T_i, the shaft torque behind station i per unit front amplitude [N·m/rad];
+        the last column is the residual torque, zero at a natural frequency.
+    """
+    omega = np.atleast_1d(np.asarray(omega, dtype=float))
+    inertia = np.asarray(inertia, dtype=float)
+    stiffness = np.asarray(stiffness, dtype=float)
+    n = inertia.size
+    amplitude = np.empty((omega.size, n))
+    torque = np.empty((omega.size, n))
+    w2 = omega ** 2
+    theta = np.ones_like(omega)
+    total = np.zeros_like(omega)
+    for i in range(n):
+        if i:
+            theta = theta - total / stiffness[i - 1]
+        total = total + inertia[i] * w2 * theta
+        amplitude[:, i], torque[:, i] = theta, total
+    return amplitude, torque
+
+
+def holzer_frequencies(inertia, stiffness, step, max_frequency):
+    """Natural frequencies from Holzer's residual on a grid, as the workbook finds them.
+
+    The residual torque is evaluated at f = step, 2·step, … ≤ max_frequency [Hz]; each
+    sign change between neighbouring points gives a natural frequency by linear
+    interpolation, f_a − R_a·(f_b − f_a)/(R_b − R_a).  A residual exactly 0 at a grid
+    point is that point.  The rigid-body mode (f = 0) is not counted.
+
+    Returns
+    -------
+    frequencies : array [Hz]
+        Lowest first; at most n − 1 (n stations); empty if the grid finds none.
+    """
+    grid = step * np.arange(1, int(np.floor(max_frequency / step + 1e-9)) + 1)
+    residual = holzer(2 * np.pi * grid, inertia, stiffness)[1][:, -1]
+    found = []
+    for a in range(grid.size):
+        if residual[a] == 0:
+            found.append(grid[a])
+        elif a + 1 < grid.size and residual[a] * residual[a + 1] < 0:
+            found.append(grid[a] - residual[a] * (grid[a + 1] - grid[a]) /
+                         (residual[a + 1] - residual[a]))
+    return np.asarray(found[:np.asarray(inertia).size - 1], dtype=float)
+
+
+def natural_frequencies(inertia, stiffness):
+    """Natural frequencies [Hz] of the chain from the generalised eigenvalue problem
+    K·v = ω²·J·v (the independent check of Holzer's table), rigid-body mode left out."""
+    inertia = np.asarray(inertia, dtype=float)
+    stiffness = np.asarray(stiffness, dtype=float)
+    n = inertia.size
+    K = np.zeros((n, n))
+    for i, k in enumerate(stiffness):
+        K[i, i] += k
+        K[i + 1, i + 1] += k
+        K[i, i + 1] -= k
+        K[i + 1, i] -= k
+    scale = 1.0 / np.sqrt(inertia)            # symmetric form: J^-½ K J^-½
+    eigen = np.linalg.eigvalsh(scale[:, None] * K * scale[None, :])
+    omega2 = np.sort(np.clip(eigen, 0.0, None))[1:]
+    return np.sqrt(omega2) / (2 * np.pi)
+
+
+def mode_shapes(frequencies, inertia, stiffness):
+    """(stations, modes) relative amplitudes at each natural frequency, front = 1."""
+    amplitude, _ = holzer(2 * np.pi * np.asarray(frequencies, dtype=float), inertia, stiffness)
+    return amplitude.T
+
+
+# ---------------------------------------------------------------- orders and speeds
+def critical_speeds(frequencies, orders=ORDERS):
+    """(orders, modes) crankshaft speeds [r/min] at which order k meets mode f:
+    n = 60·f/k."""
+    return 60.0 * np.asarray(frequencies, dtype=float)[None, :] / \
+        np.asarray(orders, dtype=float)[:, None]
+
+
+def relative_amplitude_sum(throw_amplitudes, firing_angle, orders=ORDERS):
+    """|Σ β_i·e^(j·k·φ_i)| per order and mode: how strongly order k of the cylinders'
+    torques drives each mode (Den Hartog §5.8's vector sums).
+
+    Parameters
+    ----------
+    throw_amplitudes : array (cylinders, modes)
+        The mode shape at each cylinder's throw (β_i).
+    firing_angle : array (cylinders,)
+        Crank angle of each cylinder's firing [rad].
+    orders : sequence of k
+
+    Returns
+    -------
+    array (orders, modes) [-]
+    """
+    beta = np.asarray(throw_amplitudes, dtype=float)
+    phase = np.asarray(firing_angle, dtype=float)
+    k = np.asarray(orders, dtype=float)
+    rotor = np.exp(1j * k[:, None] * phase[None, :])          # (orders, cylinders)
+    return np.abs(rotor @ beta)

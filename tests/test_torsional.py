@@ -1,0 +1,109 @@
+"""Torsional vibration (issue 28, the calc layer): Holzer's table against closed forms
+and the generalised eigenvalues, the equivalent inertia against seed 004's ring mass,
+Carter's length by its scaling, and the vector sums against the classic major orders
+of the presets' firing orders (Den Hartog, Mechanical Vibrations, §5.8)."""
+import numpy as np
+import pytest
+
+from crankbook import params
+from crankbook.calc import multicylinder, torsional
+
+HOLZER_REL = 2e-4          # linear interpolation on a 0.05 Hz grid, relative to f
+
+
+def test_two_rotors_have_the_closed_form_frequency():
+    J1, J2, k = 0.8, 2.5, 4.0e5                               # kg·m², N·m/rad
+    closed = np.sqrt(k * (J1 + J2) / (J1 * J2)) / (2 * np.pi)
+    assert torsional.natural_frequencies([J1, J2], [k]) == pytest.approx([closed], rel=1e-12)
+    found = torsional.holzer_frequencies([J1, J2], [k], 0.05, 200.0)
+    assert found == pytest.approx([closed], rel=HOLZER_REL)
+    # the node divides the shaft in the ratio J2 : J1, so θ2 = −J1/J2
+    shape = torsional.mode_shapes([closed], [J1, J2], [k])[:, 0]
+    assert shape == pytest.approx([1.0, -J1 / J2], rel=1e-9)
+
+
+def test_three_rotors_match_the_quadratic_in_omega_squared():
+    J1, J2, J3, k1, k2 = 0.3, 1.2, 0.7, 2.0e5, 3.5e5
+    a = J1 * J2 * J3
+    b = -(k1 * J3 * (J1 + J2) + k2 * J1 * (J2 + J3))
+    c = k1 * k2 * (J1 + J2 + J3)
+    omega2 = np.sort(np.roots([a, b, c]).real)
+    closed = np.sqrt(omega2) / (2 * np.pi)
+    assert torsional.natural_frequencies([J1, J2, J3], [k1, k2]) == pytest.approx(closed,
+                                                                                  rel=1e-10)
+    found = torsional.holzer_frequencies([J1, J2, J3], [k1, k2], 0.05, 400.0)
+    assert found == pytest.approx(closed, rel=HOLZER_REL)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_holzer_finds_every_eigenfrequency_of_a_chain(seed):
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(3, 11))
+    inertia = rng.uniform(0.01, 0.5, n)
+    stiffness = rng.uniform(2e4, 4e5, n - 1)
+    eigen = torsional.natural_frequencies(inertia, stiffness)
+    top = eigen[-1] * 1.05
+    found = torsional.holzer_frequencies(inertia, stiffness, top / 20000, top)
+    assert found == pytest.approx(eigen, rel=HOLZER_REL)
+    # the one- and two-node modes (the ones an engine meets) have one and two sign
+    # changes; higher modes of a random chain localise, and Holzer's forward
+    # recurrence cannot resolve amplitudes of 1e-7 at the far end
+    shapes = torsional.mode_shapes(eigen[:2], inertia, stiffness)
+    for mode in range(shapes.shape[1]):
+        signs = np.sign(shapes[:, mode])
+        assert np.count_nonzero(signs[1:] != signs[:-1]) == mode + 1, mode
+
+
+def test_a_grid_below_the_first_mode_finds_nothing():
+    assert torsional.holzer_frequencies([1.0, 1.0], [1.0e4], 0.1, 5.0).size == 0
+
+
+def test_throw_inertia_is_the_ring_mass_at_the_crank_radius():
+    """The reciprocating mass's mean equivalent is seed 004's bob weight: with the big
+    end as the rotating mass, J = M_ring·r²."""
+    m_j, m_big, lam, r = 0.62, 0.41, 0.29, 0.045
+    ring = multicylinder.ring_mass_per_rod(m_j, m_big, lam)
+    assert torsional.throw_inertia(m_big, m_j, r, lam) == pytest.approx(ring * r ** 2,
+                                                                         rel=1e-12)
+    numeric = multicylinder.ring_mass_numeric(m_j, m_big, lam) * r ** 2
+    assert torsional.throw_inertia(m_big, m_j, r, lam) == pytest.approx(numeric, rel=1e-3)
+    assert torsional.throw_inertia(m_big, m_j, r, lam, 0.002) == pytest.approx(
+        ring * r ** 2 + 0.002, rel=1e-12)
+
+
+def test_carter_length_scales_with_the_crank_and_reduces_to_a_plain_shaft():
+    dims = dict(journal_diameter=0.06, journal_length=0.03, pin_diameter=0.05,
+                pin_length=0.028, web_thickness=0.018, web_width=0.09, crank_radius=0.045)
+    base = torsional.carter_equivalent_length(**dims)
+    scaled = torsional.carter_equivalent_length(**{k: 2.5 * v for k, v in dims.items()})
+    assert scaled == pytest.approx(2.5 * base, rel=1e-12)          # a length
+    # a pin as thick as the journal and a stiff web leave journal and pin in series
+    plain = dict(dims, pin_diameter=0.06, web_width=1e3)
+    assert torsional.carter_equivalent_length(**plain) == pytest.approx(
+        0.03 + 0.8 * 0.018 + 0.75 * 0.028, rel=1e-9)
+    k = torsional.shaft_stiffness(80e9, 0.06, base)
+    assert k == pytest.approx(80e9 * np.pi * 0.06 ** 4 / 32 / base, rel=1e-12)
+
+
+@pytest.mark.parametrize("preset,major", [("inline-4", 2.0), ("inline-6", 3.0),
+                                          ("v8-crossplane", 4.0)])
+def test_the_firing_order_excites_its_major_orders(preset, major):
+    """With equal amplitudes at every cylinder (the first mode of a stiff short
+    crankshaft), the vector sum is the cylinder count at the major orders — multiples
+    of n/2 for a four-stroke engine — and vanishes at every other order."""
+    spec, values, _ = params.load_preset(preset)
+    phases = np.radians(np.asarray(values["firing_angle"], dtype=float))
+    n = phases.size
+    sums = torsional.relative_amplitude_sum(np.ones((n, 1)), phases)[:, 0]
+    for k, total in zip(torsional.ORDERS, sums):
+        if abs(k / major - round(k / major)) < 1e-12:
+            assert total == pytest.approx(n, rel=1e-12), (preset, k)
+        else:
+            assert total == pytest.approx(0.0, abs=1e-9), (preset, k)
+
+
+def test_critical_speeds_are_sixty_f_over_k():
+    speeds = torsional.critical_speeds([150.0, 420.0], orders=(0.5, 3.0, 6.0))
+    assert speeds.shape == (3, 2)
+    assert speeds[1] == pytest.approx([3000.0, 8400.0])
+    assert speeds[0, 0] == pytest.approx(18000.0)
