@@ -138,8 +138,9 @@ def holzer_frequencies(inertia, stiffness, step, max_frequency):
 
     The residual torque is evaluated at f = step, 2·step, … ≤ max_frequency [Hz]; each
     sign change between neighbouring points gives a natural frequency by linear
-    interpolation, f_a − R_a·(f_b − f_a)/(R_b − R_a).  A residual exactly 0 at a grid
-    point is that point.  The rigid-body mode (f = 0) is not counted.
+    interpolation, f_a − R_a·(f_b − f_a)/(R_b − R_a), b = a + 1; a residual exactly 0
+    at a grid point b is that point (the formula gives f_b), counted once.  The
+    rigid-body mode (f = 0) is not counted.
 
     Returns
     -------
@@ -149,12 +150,12 @@ def holzer_frequencies(inertia, stiffness, step, max_frequency):
     grid = step * np.arange(1, int(np.floor(max_frequency / step + 1e-9)) + 1)
     residual = holzer(2 * np.pi * grid, inertia, stiffness)[1][:, -1]
     found = []
-    for a in range(grid.size):
-        if residual[a] == 0:
-            found.append(grid[a])
-        elif a + 1 < grid.size and residual[a] * residual[a + 1] < 0:
-            found.append(grid[a] - residual[a] * (grid[a + 1] - grid[a]) /
-                         (residual[a + 1] - residual[a]))
+    # row b ends a sign change when R_(b−1) ≠ 0 and R_(b−1)·R_b ≤ 0 (a zero at b is b)
+    for b in range(1, grid.size):
+        a = b - 1
+        if residual[a] != 0 and residual[a] * residual[b] <= 0:
+            found.append(grid[a] - residual[a] * (grid[b] - grid[a]) /
+                         (residual[b] - residual[a]))
     return np.asarray(found[:np.asarray(inertia).size - 1], dtype=float)
 
 

@@ -22,6 +22,9 @@ from crankbook.workbook_reader import parse_reference
 FILLS = {"right": "C6EFCE", "partial": "FFEB9C", "wrong": "FFC7CE", "unreadable": "D9D2E9",
          "empty": "EDEDED"}
 UNREADABLE = ("not_a_number", "wrong_unit")
+# openpyxl holds a whole workbook in memory: a file far larger than any task's is
+# graded (the bounded reader) but only its HTML page goes back
+MAX_ANNOTATED = 8 * 2**20
 
 
 def kind_of(cell):
@@ -42,8 +45,11 @@ def write_returns(directory, assignment, lang, grades, chosen, mode):
         sub = chosen.get(g.student_id)
         (directory / f"{g.student_id}.html").write_text(
             feedback_html(g, assignment, lang, mode), encoding="utf-8")
-        if g.status == "graded" and sub is not None:
-            annotate(sub, g, assignment, lang, mode, directory / f"{g.student_id}.xlsx")
+        if g.status == "graded" and sub is not None and sub.size <= MAX_ANNOTATED:
+            try:
+                annotate(sub, g, assignment, lang, mode, directory / f"{g.student_id}.xlsx")
+            except Exception:        # one odd file costs its own return, not the class's
+                (directory / f"{g.student_id}.xlsx").unlink(missing_ok=True)
 
 
 def annotate(sub, g, assignment, lang, mode, target):
