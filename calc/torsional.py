@@ -212,3 +212,95 @@ def relative_amplitude_sum(throw_amplitudes, firing_angle, orders=ORDERS):
     k = np.asarray(orders, dtype=float)
     rotor = np.exp(1j * k[:, None] * phase[None, :])          # (orders, cylinders)
     return np.abs(rotor @ beta)
+
+
+# ---------------------------------------------------------------- the workbook's columns
+# The torsion sheets hold Holzer's table on a live grid of HOLZER_ROWS trial
+# frequencies, f = step, 2·step, …; each function below is one column or table.
+HOLZER_ROWS = 400
+
+
+def station_count(throw):
+    """Stations of the equivalent system: pulley, one per throw, flywheel."""
+    return int(np.max(np.asarray(throw, dtype=float))) + 2
+
+
+def section_count(throw):
+    """Shaft sections between neighbouring stations (= modes that can be found)."""
+    return station_count(throw) - 1
+
+
+def frequency_grid(holzer_step):
+    """The trial frequencies f = step·(1 … HOLZER_ROWS) [Hz]."""
+    return holzer_step * np.arange(1, HOLZER_ROWS + 1, dtype=float)
+
+
+def station_inertias(pulley_inertia, ring_mass, crank_radius, web_inertia, flywheel_inertia):
+    """J of every station [kg·m²]: the pulley, each throw (its rods' ring mass — the
+    big ends and the reciprocating masses by their mean — at the crank radius, plus
+    both webs), the flywheel."""
+    throws = np.asarray(ring_mass, dtype=float) * crank_radius ** 2 + web_inertia
+    return np.concatenate([[pulley_inertia], throws, [flywheel_inertia]])
+
+
+def flywheel_station_inertia(flywheel_inertia_typed, engine_flywheel_inertia):
+    """The typed flywheel inertia, or (0 typed) the flywheel sheet's [kg·m²]."""
+    return flywheel_inertia_typed if flywheel_inertia_typed > 0 else engine_flywheel_inertia
+
+
+def throw_equivalent_length(main_journal_diameter, main_journal_length, crankpin_diameter,
+                            crankpin_length, web_thickness, web_width, crank_radius,
+                            main_journal_bore, crankpin_bore):
+    """Carter's equivalent length of one throw in the workbook's names [m]."""
+    return carter_equivalent_length(main_journal_diameter, main_journal_length,
+                                    crankpin_diameter, crankpin_length, web_thickness,
+                                    web_width, crank_radius, main_journal_bore, crankpin_bore)
+
+
+def section_stiffnesses(shear_modulus, main_journal_diameter, main_journal_bore,
+                        throw_equivalent_length, throw):
+    """k of every section [N·m/rad]: one throw's equivalent length of journal each."""
+    k = shaft_stiffness(shear_modulus, main_journal_diameter, throw_equivalent_length,
+                        main_journal_bore)
+    return np.full(section_count(throw), float(k))
+
+
+def holzer_amplitude(holzer_frequency, station_inertia, section_stiffness):
+    """θ_i at each trial frequency, θ_1 = 1: (rows, stations)."""
+    return holzer(2 * np.pi * np.ravel(holzer_frequency).astype(float), station_inertia,
+                  section_stiffness)[0]
+
+
+def holzer_torque(holzer_frequency, station_inertia, section_stiffness):
+    """T_i at each trial frequency [N·m per rad of the front station]: (rows, stations)."""
+    return holzer(2 * np.pi * np.ravel(holzer_frequency).astype(float), station_inertia,
+                  section_stiffness)[1]
+
+
+def holzer_residual(holzer_torque):
+    """The last station's T: zero at a natural frequency."""
+    return np.asarray(holzer_torque, dtype=float)[:, -1]
+
+
+def sign_changes(holzer_residual):
+    """Running count of sign changes down the residual column: row b counts one when
+    R_(b−1) ≠ 0 and R_(b−1)·R_b ≤ 0 (a zero at b is b's); the first row 0."""
+    r = np.asarray(holzer_residual, dtype=float)
+    step = np.concatenate([[0.0], ((r[:-1] != 0) & (r[:-1] * r[1:] <= 0)).astype(float)])
+    return np.cumsum(step)
+
+
+def natural_frequency(holzer_frequency, holzer_residual, holzer_sign_changes, throw):
+    """Natural frequency of each mode [Hz] (NaN where the grid finds none): the row b
+    where the count of sign changes first reaches m, interpolated linearly with b − 1."""
+    f = np.asarray(holzer_frequency, dtype=float)
+    r = np.asarray(holzer_residual, dtype=float)
+    count = np.asarray(holzer_sign_changes, dtype=float)
+    out = np.full(section_count(throw), np.nan)
+    for m in range(1, out.size + 1):
+        rows = np.flatnonzero(count == m)
+        if rows.size:
+            b = rows[0]
+            a = b - 1
+            out[m - 1] = f[a] - r[a] * (f[b] - f[a]) / (r[b] - r[a])
+    return out

@@ -107,3 +107,38 @@ def test_critical_speeds_are_sixty_f_over_k():
     assert speeds.shape == (3, 2)
     assert speeds[1] == pytest.approx([3000.0, 8400.0])
     assert speeds[0, 0] == pytest.approx(18000.0)
+
+
+# ---------------------------------------------------------------- in the workbooks
+ENGINE_PRESETS = [p for p in params.preset_names()
+                  if params.load_preset(p)[0].key == "engine"]
+
+
+@pytest.mark.parametrize("preset", ENGINE_PRESETS)
+def test_every_engine_workbooks_holzer_frequencies_are_its_eigenfrequencies(preset):
+    import crankbook
+    r = crankbook.compute(preset, step=30.0)
+    J, k = r["station_inertia"], r["section_stiffness"]
+    assert J.size == r["station_count"] == k.size + 1
+    eigen = torsional.natural_frequencies(J, k)
+    found = np.asarray(r["natural_frequency"], dtype=float)
+    top = r.parameters["holzer_step"] * torsional.HOLZER_ROWS
+    within = eigen[eigen < top - r.parameters["holzer_step"]]
+    assert within.size >= 1, (preset, eigen[:2])           # the first mode is on the grid
+    # linear interpolation between grid points: within 0.5 % of the eigenvalue
+    assert found[:within.size] == pytest.approx(within, rel=5e-3), preset
+    assert np.all(np.isnan(found[within.size:]))             # no mode beyond the grid
+
+
+def test_typed_inertias_and_a_stiffer_shaft_move_the_frequencies():
+    import crankbook
+    base = crankbook.compute("inline-4", step=30.0)
+    stiff = crankbook.compute("inline-4", step=30.0, main_journal_diameter=70.0)
+    heavy = crankbook.compute("inline-4", step=30.0, flywheel_inertia_typed=0.5,
+                              web_inertia=0.004)
+    assert stiff["natural_frequency"][0] > base["natural_frequency"][0]
+    assert heavy["natural_frequency"][0] < base["natural_frequency"][0]
+    assert heavy["station_inertia"][-1] == 0.5
+    eigen = torsional.natural_frequencies(heavy["station_inertia"],
+                                          heavy["section_stiffness"])
+    assert heavy["natural_frequency"][0] == pytest.approx(eigen[0], rel=5e-3)

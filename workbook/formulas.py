@@ -241,8 +241,10 @@ class Locator:
         item = self._chosen_item(node, axis, context)
         if item is None:
             return self.name(node.key)
-        if isinstance(item, str) or not 1 <= item <= place.count:
+        if isinstance(item, str):
             return f"INDEX({self.name(node.key)},{item})"
+        if not 1 <= item <= place.count:
+            return "0"                    # item(EXPR) folded to no item: see README
         return self._cell(place.sheet, place.row + item - 1, place.col, context)
 
     def _product_block(self, node, place, axis, context):
@@ -295,6 +297,8 @@ class Locator:
             if node.part == "all" or context.grid is None:
                 return self.name(node.key)
             raise CompileError(f"{{{node.key}}}: which {axis}? use :items or :item(…)")
+        if isinstance(item, int) and not 1 <= item <= place.count:
+            return "0"                    # item(EXPR) folded to no item: see README
         if isinstance(item, str):
             if context.grid != place.grid:
                 raise CompileError(f"{{{node.key}:item({item})}} outside its grid")
