@@ -304,3 +304,23 @@ def natural_frequency(holzer_frequency, holzer_residual, holzer_sign_changes, th
             a = b - 1
             out[m - 1] = f[a] - r[a] * (f[b] - f[a]) / (r[b] - r[a])
     return out
+
+
+def torsion_orders():
+    """The orders k = 0.5, 1, …, 12 of the critical-speed table."""
+    return np.asarray(ORDERS, dtype=float)
+
+
+def critical_speed_table(natural_frequency, torsion_order):
+    """(orders, modes) critical speeds as angular velocities ω = 2π·f/k [rad/s]
+    (n = 60·f/k in r/min); NaN where a mode was not found."""
+    k = np.ravel(torsion_order).astype(float)[:, None]
+    return 2 * np.pi * np.asarray(natural_frequency, dtype=float)[None, :] / k
+
+
+def critical_in_range(critical_speed, operating_speed):
+    """1 where a critical speed lies within the operating points' speeds (inclusive)."""
+    c = np.asarray(critical_speed, dtype=float)
+    low, high = np.min(operating_speed), np.max(operating_speed)
+    with np.errstate(invalid="ignore"):
+        return ((c >= low) & (c <= high)).astype(float)

@@ -142,3 +142,16 @@ def test_typed_inertias_and_a_stiffer_shaft_move_the_frequencies():
     eigen = torsional.natural_frequencies(heavy["station_inertia"],
                                           heavy["section_stiffness"])
     assert heavy["natural_frequency"][0] == pytest.approx(eigen[0], rel=5e-3)
+
+
+def test_critical_speeds_are_flagged_inside_the_operating_speeds():
+    import crankbook
+    r = crankbook.compute("inline-6", step=30.0, main_journal_diameter=32.0)
+    f = np.asarray(r["natural_frequency"], dtype=float)
+    c = np.asarray(r["critical_speed"], dtype=float)
+    k = np.asarray(r["torsion_order"], dtype=float)
+    assert np.allclose(c[:, :1] * k[:, None] / 60, f[:1], rtol=1e-12)     # n = 60 f / k
+    speeds = np.asarray(r.parameters["operating_speed"], dtype=float)
+    inside = (c >= speeds.min()) & (c <= speeds.max())
+    assert np.array_equal(np.asarray(r["critical_in_range"]) == 1, inside)
+    assert inside.any() and not inside.all()      # this shaft meets some orders in range
