@@ -155,3 +155,30 @@ def test_critical_speeds_are_flagged_inside_the_operating_speeds():
     inside = (c >= speeds.min()) & (c <= speeds.max())
     assert np.array_equal(np.asarray(r["critical_in_range"]) == 1, inside)
     assert inside.any() and not inside.all()      # this shaft meets some orders in range
+
+
+def test_the_export_carries_the_system_and_harmonics_that_sum_to_the_engine(tmp_path):
+    """stations.csv is the workbook's system; the cylinders' harmonics in the common
+    crank angle add up, order by order, to the engine torque's amplitude."""
+    import csv
+    import crankbook
+    from tests.conftest import run_cli
+    path = crankbook.compute("v8-crossplane", step=6.0).to_excel(tmp_path / "v8.xlsx")
+    done = run_cli("export", "torsion", path, "-o", tmp_path / "tv")
+    assert done.returncode == 0, done.stderr
+    back = crankbook.read(path)
+    with open(tmp_path / "tv" / "stations.csv", newline="", encoding="utf-8") as f:
+        stations = list(csv.DictReader(f))
+    assert [float(r["J [kg·m²]"]) for r in stations] == pytest.approx(
+        list(back["station_inertia"]), rel=1e-12)
+    assert stations[0]["name"] == "pulley" and stations[-1]["k to next [N·m/rad]"] == ""
+    with open(tmp_path / "tv" / "harmonics.csv", newline="", encoding="utf-8") as f:
+        harmonics = list(csv.DictReader(f))
+    for k, amplitude in zip(back["torque_order"], back["engine_torque_amplitude"]):
+        parts = [complex(float(r["a_k [N·m]"]), float(r["b_k [N·m]"])) for r in harmonics
+                 if float(r["order"]) == k]
+        assert len(parts) == 8
+        assert abs(sum(parts)) == pytest.approx(amplitude, rel=1e-6, abs=1e-6 * max(
+            back["engine_torque_amplitude"]))
+    done = run_cli("export", "torsion", tmp_path / "nothing.xlsx", "-o", tmp_path / "x")
+    assert done.returncode == 2 and done.stderr.count("\n") == 1

@@ -123,6 +123,12 @@ class Results:
         return (f"<crankbook.Results {self.template} (preset {self.preset.get('name')}): "
                 f"{len(self.spec.parameters)} parameters, {len(self.results)} quantities>")
 
+    def to_torsion_csv(self, directory):
+        """Write ``stations.csv`` and ``harmonics.csv`` (the torsional system and each
+        cylinder's torque harmonics) into ``directory``; see crankbook.torsion_export."""
+        from crankbook.torsion_export import write
+        return write(self, directory)
+
     def to_excel(self, path, lang="zh"):
         """Write the formula-backed workbook the command line writes; return its path."""
         from crankbook.writer.build import write_workbook

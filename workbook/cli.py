@@ -122,6 +122,16 @@ def _build_parser():
     assign.add_argument("--quiet", action="store_true",
                         help="no progress on the terminal (none is shown in a pipe anyway)")
 
+    export = commands.add_parser(
+        "export", help="write a workbook's data for another tool (torsion: stations.csv, "
+                       "harmonics.csv)",
+        description="export torsion WORKBOOK -o DIR: the torsional system (station, J, k to "
+                    "the next) and each cylinder's torque harmonics a_k, b_k in the common "
+                    "crank angle, read from an engine workbook's names as stored.")
+    export.add_argument("what", choices=("torsion",))
+    export.add_argument("workbook", metavar="WORKBOOK")
+    export.add_argument("-o", "--output", required=True, metavar="DIR")
+
     check = commands.add_parser(
         "check", help="for students: would the grader read this workbook in full?",
         description="Read a returned student workbook as `crankbook grade` does and list, in "
@@ -360,6 +370,14 @@ def _assign(args):
     return 0
 
 
+def _export(args):
+    import crankbook
+    from crankbook.torsion_export import write
+    write(crankbook.read(args.workbook), args.output)
+    print(f"wrote {args.output}/stations.csv and harmonics.csv")
+    return 0
+
+
 def _check(args):
     from crankbook.assignment.check import check
     report = check(args.file)
@@ -423,7 +441,7 @@ def main(argv=None):
     signal.signal(signal.SIGTERM, _terminate)      # a kill cleans up like Ctrl-C
     args = _build_parser().parse_args(argv)
     handlers = {"build": _build, "verify": _verify, "audit": _audit, "assign": _assign,
-                "grade": _grade, "check": _check, "presets": _presets,
+                "grade": _grade, "check": _check, "export": _export, "presets": _presets,
                 "parameters": _parameters}
     try:
         return handlers[args.command](args)
