@@ -248,15 +248,6 @@ def flywheel_station_inertia(flywheel_inertia_typed, engine_flywheel_inertia):
     return flywheel_inertia_typed if flywheel_inertia_typed > 0 else engine_flywheel_inertia
 
 
-def throw_equivalent_length(main_journal_diameter, main_journal_length, crankpin_diameter,
-                            crankpin_length, web_thickness, web_width, crank_radius,
-                            main_journal_bore, crankpin_bore):
-    """Carter's equivalent length of one throw in the workbook's names [m]."""
-    return carter_equivalent_length(main_journal_diameter, main_journal_length,
-                                    crankpin_diameter, crankpin_length, web_thickness,
-                                    web_width, crank_radius, main_journal_bore, crankpin_bore)
-
-
 def section_stiffnesses(shear_modulus, main_journal_diameter, main_journal_bore,
                         throw_equivalent_length, throw):
     """k of every section [N·m/rad]: one throw's equivalent length of journal each."""

@@ -14,6 +14,7 @@ import tomllib
 from pathlib import Path
 
 from crankbook import params, resources
+from crankbook.assignment.roster import excel_text
 from crankbook.errors import RosterError, UnknownGroupError
 
 GROUP_COLUMNS = ("组号", "group", "小组", "组", "group number")
@@ -83,14 +84,7 @@ def _teachers_table(path):
         except (UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError) as error:
             raise UnknownGroupError(f"--groups {path}: not a table of [[group]] rows "
                                     f"({type(error).__name__})") from None
-    for encoding in ("utf-8-sig", "gb18030"):
-        try:
-            text = data.decode(encoding)
-            break
-        except UnicodeDecodeError:
-            continue
-    else:
-        raise UnknownGroupError(f"--groups {path}: neither UTF-8 nor GBK text")
+    text = excel_text(data, f"--groups {path}", UnknownGroupError)
     rows = list(csv.DictReader(io.StringIO(text)))
     return [{k.strip(): (v or "").strip() for k, v in row.items() if k} for row in rows]
 

@@ -17,6 +17,7 @@ import csv
 import io
 from dataclasses import dataclass, replace
 
+from crankbook.assignment.roster import excel_text
 from crankbook.errors import CrankbookError
 
 ACTIONS = ("accept", "points", "waive-flag")
@@ -51,14 +52,7 @@ def read_overrides(path, roster_ids, item_keys):
         raw = open(path, "rb").read(2_000_000)
     except OSError as error:
         raise OverridesError(f"overrides {path}: cannot be read ({error.strerror})") from None
-    for encoding in ("utf-8-sig", "gb18030"):
-        try:
-            text = raw.decode(encoding)
-            break
-        except UnicodeDecodeError:
-            continue
-    else:
-        raise OverridesError(f"overrides {path}: neither UTF-8 nor GBK text")
+    text = excel_text(raw, f"overrides {path}", OverridesError)
     rows = list(csv.reader(io.StringIO(text)))
     if not rows or [c.strip().lower() for c in rows[0]][:len(COLUMNS)] != list(COLUMNS):
         raise OverridesError(f"overrides {path}: the first row must be "

@@ -472,10 +472,10 @@ def item_statistics(assignment, graded):
     third = max(1, len(ranked) // 3)
     low, high = ranked[:third], ranked[-third:]
 
-    def share(group, key):
-        values = [g.items[key][0] / item.points for g in group if key in g.items
-                  for item in [assignment.item[key]] if item.points]
-        return sum(values) / len(values) if values else 0.0
+    def share(group, item):
+        """Mean fraction of the item's points in ``group``."""
+        values = [g.items[item.key][0] / item.points for g in group if item.key in g.items]
+        return sum(values) / len(values) if values and item.points else 0.0
     out = []
     for item in assignment.items:
         cells = [c for g in graded if item.key in g.items for c in g.items[item.key][1]]
@@ -483,7 +483,7 @@ def item_statistics(assignment, graded):
         slips = {kind: sum(c.reason == kind for c in cells) for kind in SLIP_KINDS}
         out.append({"item": item, "cells": len(cells),
                     "difficulty": right / len(cells) if cells else 0.0, "slips": slips,
-                    "discrimination": share(high, item.key) - share(low, item.key)
+                    "discrimination": share(high, item) - share(low, item)
                     if len(ranked) >= 3 else 0.0})
     return out
 

@@ -28,12 +28,14 @@ MAX_STUDENTS = 5000
 ENCODINGS = ("utf-8", "gb18030")
 
 
-def _decode(raw, path):
+def excel_text(raw, what, error=RosterError):
+    """Text of a file as Excel saves it — UTF-8 (with or without BOM), GBK/GB18030 or
+    UTF-16 — or ``error`` naming ``what`` (rosters, group tables, overrides)."""
     if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
         try:
             return raw.decode("utf-16")
         except UnicodeDecodeError:
-            raise RosterError(f"roster {path}: damaged UTF-16 text") from None
+            raise error(f"{what}: damaged UTF-16 text") from None
     if raw.startswith(b"\xef\xbb\xbf"):
         raw = raw[3:]
     for encoding in ENCODINGS:
@@ -41,8 +43,8 @@ def _decode(raw, path):
             return raw.decode(encoding)
         except UnicodeDecodeError:
             continue
-    raise RosterError(f"roster {path}: not UTF-8, GBK/GB18030 or UTF-16 text; save it from "
-                      f"Excel as 'CSV UTF-8' or as .xlsx")
+    raise error(f"{what}: not UTF-8, GBK/GB18030 or UTF-16 text; save it from Excel as "
+                f"'CSV UTF-8' or as .xlsx")
 
 
 def _rows(path):
@@ -58,7 +60,7 @@ def _rows(path):
                                            else str(v)) for v in row] for row in sheet_rows(book)]
         except Unreadable as reason:
             raise RosterError(f"roster {path}: {reason}") from None
-    text = _decode(path.read_bytes(), path)
+    text = excel_text(path.read_bytes(), f"roster {path}")
     if "\x00" in text:
         raise RosterError(f"roster {path}: contains NUL characters; not a text file")
     sample = text[:4096]
