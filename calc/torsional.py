@@ -235,12 +235,15 @@ def frequency_grid(holzer_step):
     return holzer_step * np.arange(1, HOLZER_ROWS + 1, dtype=float)
 
 
-def station_inertias(pulley_inertia, ring_mass, crank_radius, web_inertia, flywheel_inertia):
+def station_inertias(pulley_inertia, ring_mass, crank_radius, web_inertia, flywheel_inertia,
+                     station_inertia_typed=0.0):
     """J of every station [kg·m²]: the pulley, each throw (its rods' ring mass — the
     big ends and the reciprocating masses by their mean — at the crank radius, plus
-    both webs), the flywheel."""
+    both webs), the flywheel; a typed value > 0 replaces the station's."""
     throws = np.asarray(ring_mass, dtype=float) * crank_radius ** 2 + web_inertia
-    return np.concatenate([[pulley_inertia], throws, [flywheel_inertia]])
+    computed = np.concatenate([[pulley_inertia], throws, [flywheel_inertia]])
+    typed = np.broadcast_to(np.asarray(station_inertia_typed, dtype=float), computed.shape)
+    return np.where(typed > 0, typed, computed)
 
 
 def flywheel_station_inertia(flywheel_inertia_typed, engine_flywheel_inertia):
@@ -249,11 +252,14 @@ def flywheel_station_inertia(flywheel_inertia_typed, engine_flywheel_inertia):
 
 
 def section_stiffnesses(shear_modulus, main_journal_diameter, main_journal_bore,
-                        throw_equivalent_length, throw):
-    """k of every section [N·m/rad]: one throw's equivalent length of journal each."""
+                        throw_equivalent_length, throw, section_stiffness_typed=0.0):
+    """k of every section [N·m/rad]: one throw's equivalent length of journal each; a
+    typed value > 0 replaces the section's."""
     k = shaft_stiffness(shear_modulus, main_journal_diameter, throw_equivalent_length,
                         main_journal_bore)
-    return np.full(section_count(throw), float(k))
+    computed = np.full(section_count(throw), float(k))
+    typed = np.broadcast_to(np.asarray(section_stiffness_typed, dtype=float), computed.shape)
+    return np.where(typed > 0, typed, computed)
 
 
 def holzer_amplitude(holzer_frequency, station_inertia, section_stiffness):
@@ -315,3 +321,125 @@ def critical_in_range(critical_speed, operating_speed):
     low, high = np.min(operating_speed), np.max(operating_speed)
     with np.errstate(invalid="ignore"):
         return ((c >= low) & (c <= high)).astype(float)
+
+
+def found_none(natural_frequency):
+    """1 when the Holzer grid found no natural frequency at all, else 0 (modes above
+    the grid are expected: only the lowest matter to an engine's orders)."""
+    return float(np.all(np.isnan(np.asarray(natural_frequency, dtype=float))))
+
+
+# ---------------------------------------------------------------- mode shapes
+def station_numbers(throw):
+    """The stations 1 … n of the mode-shape table (1 = pulley, n = flywheel)."""
+    return np.arange(1, station_count(throw) + 1, dtype=float)
+
+
+def mode_shape(natural_frequency, station_inertia, section_stiffness):
+    """(stations, modes) relative amplitudes θ_i at each natural frequency, θ_1 = 1;
+    a mode the grid did not find is a column of NaN."""
+    f = np.asarray(natural_frequency, dtype=float)
+    out = np.full((np.asarray(station_inertia).size, f.size), np.nan)
+    found = ~np.isnan(f)
+    out[:, found] = holzer(2 * np.pi * f[found], station_inertia, section_stiffness)[0].T
+    return out
+
+
+def mode_torque(natural_frequency, station_inertia, section_stiffness):
+    """(stations, modes) shaft torque behind each station per rad of the front station
+    [N·m/rad] at each natural frequency; NaN for a mode not found."""
+    f = np.asarray(natural_frequency, dtype=float)
+    out = np.full((np.asarray(station_inertia).size, f.size), np.nan)
+    found = ~np.isnan(f)
+    out[:, found] = holzer(2 * np.pi * f[found], station_inertia, section_stiffness)[1].T
+    return out
+
+
+def modal_inertia(natural_frequency, station_inertia, mode_shape):
+    """J_m = Σ J_i·θ_i² of each mode, front amplitude 1 [kg·m²] (NaN: not found)."""
+    theta = np.asarray(mode_shape, dtype=float)
+    return np.asarray(station_inertia, dtype=float) @ theta ** 2 + \
+        0.0 * np.asarray(natural_frequency, dtype=float)
+
+
+def relative_amplitude_sums(mode_shape, throw, firing_angle, torsion_order):
+    """(orders, modes) |Σ θ_(throw+1)·e^(j·k·φ)| over the cylinders: each cylinder
+    drives the station of its throw with its firing angle φ [rad]."""
+    theta = np.asarray(mode_shape, dtype=float)
+    stations = np.asarray(throw, dtype=int)            # throw t is station t + 1
+    return relative_amplitude_sum(theta[stations, :], np.ravel(firing_angle),
+                                  np.ravel(torsion_order))
+
+
+def resonant_amplitude(cylinder_torque_amplitude, torque_order, torsion_order,
+                       relative_amplitude_sum, torsion_damping_ratio, natural_frequency,
+                       modal_inertia):
+    """Amplitude of the front station at resonance of order k with mode n [rad], by
+    the energy balance: the work of one cylinder's order-k torque A_k over a cycle,
+    π·A_k·Σ·θ_1 (Σ the vector sum), equals the modal damping's 2π·ζ·ω_n²·J_m·θ_1², so
+
+        θ_1 = A_k·Σ / (2·ζ·ω_n²·J_m)
+
+    Parameters
+    ----------
+    cylinder_torque_amplitude : array (orders of the torque harmonics,) [N·m]
+    torque_order : array, the orders of those harmonics [-]
+    torsion_order : array (N,) or (N, 1), the orders of this table [-]
+    relative_amplitude_sum : array (N, modes) [-]
+    torsion_damping_ratio : float ζ [-]
+    natural_frequency : array (modes,) [Hz]
+    modal_inertia : array (modes,) [kg·m²]
+
+    Returns
+    -------
+    array (N, modes) [rad]; 0 where the torque has no harmonic of that order.
+
+    References
+    ----------
+    Den Hartog, *Mechanical Vibrations*, §5.8 (the energy method at resonance).
+    """
+    k = np.ravel(torsion_order).astype(float)
+    orders = np.asarray(torque_order, dtype=float)
+    amplitude = np.asarray(cylinder_torque_amplitude, dtype=float)
+    # the sheet's MATCH(k, orders, 0) is exact on these halves; a tolerance keeps the
+    # comparison's rounding perturbations from reading a jump to 0 as a derivative
+    same = np.abs(k[:, None] - orders[None, :]) <= 1e-9
+    a_k = np.where(same.any(axis=1), amplitude[np.argmax(same, axis=1)], 0.0)
+    omega2 = (2 * np.pi * np.asarray(natural_frequency, dtype=float)) ** 2
+    theta = a_k[:, None] * np.asarray(relative_amplitude_sum, dtype=float) / (
+        2 * torsion_damping_ratio * omega2[None, :] * np.asarray(modal_inertia, dtype=float))
+    return theta
+
+
+# ---------------------------------------------------------------- Campbell diagram
+CAMPBELL_ROWS = 21
+CAMPBELL_ORDERS = 12
+CAMPBELL_MODES = 3
+
+
+def campbell_order_count():
+    """Order lines of the Campbell diagram: k = 1 … 12."""
+    return CAMPBELL_ORDERS
+
+
+def campbell_mode_count(throw):
+    """Natural-frequency lines: the lowest three modes (or fewer, if fewer exist)."""
+    return min(CAMPBELL_MODES, section_count(throw))
+
+
+def campbell_speeds(operating_speed):
+    """Speeds 0 … 1.25 × the highest operating speed in 20 steps [rad/s]."""
+    return np.arange(CAMPBELL_ROWS) * 1.25 * np.max(operating_speed) / (CAMPBELL_ROWS - 1)
+
+
+def order_lines(campbell_speed):
+    """(speeds, orders) f = k·ω/2π [Hz] (= k·n/60 with n in r/min) for k = 1 … 12;
+    ``campbell_speed`` ω [rad/s]."""
+    omega = np.ravel(campbell_speed).astype(float)
+    return omega[:, None] * np.arange(1, CAMPBELL_ORDERS + 1)[None, :] / (2 * np.pi)
+
+
+def natural_lines(natural_frequency, campbell_speed):
+    """(speeds, lines) the lowest natural frequencies, constant over speed [Hz]."""
+    f = np.asarray(natural_frequency, dtype=float)[:CAMPBELL_MODES]
+    return np.repeat(f[None, :], np.ravel(campbell_speed).size, axis=0)

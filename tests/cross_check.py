@@ -32,9 +32,15 @@ WORKBOOKS = {
     "thesis_edit_offset": {"edit_of": "thesis_step3",
                            "edits": {"offset": -9.0, "rod_length": 172.0, "bore": 92.0,
                                      "exact_kinematics": 1.0}},
+    # … and a textbook's three-rotor system typed over the computed one (issue 28)
     "thesis_edit_speed": {"edit_of": "thesis_step3",
-                          "edits": {"speed": 2300.0, "crank_radius": 45.0, "piston_mass": 0.41}},
-    "thesis_edit_exact": {"edit_of": "thesis_step3", "edits": {"exact_kinematics": 1.0, "speed": 6100.0}},
+                          "edits": {"speed": 2300.0, "crank_radius": 45.0, "piston_mass": 0.41,
+                                    "station_inertia_typed": [0.3, 1.2, 0.7],
+                                    "section_stiffness_typed": [2.0e5, 3.5e5],
+                                    "holzer_step": 1.0}},
+    # … and a Holzer grid too fine to reach the first mode: blank, and the status says why
+    "thesis_edit_exact": {"edit_of": "thesis_step3", "edits": {"exact_kinematics": 1.0, "speed": 6100.0,
+                                                                "holzer_step": 0.001}},
     "thesis_edit_trace": {"edit_of": "thesis_step3", "edits": {"pressure_source": 1.0},
                           "tables": {"trace_crank_angle": PASTED_TRACE,
                                      "trace_pressure": 0.12 + 3.0 * np.exp(

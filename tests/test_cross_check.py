@@ -91,3 +91,37 @@ def test_optimisation_reproduces_seed_003(checked):
         assert recalculated["q_opt_reduction"] == pytest.approx(39.08, abs=0.01)
         scan = [v for v in recalculated["q_scan_objective"] if isinstance(v, float)]
         assert min(scan) >= recalculated["q_opt_objective"] - 1e-12
+
+
+def _three_rotor_frequencies(J1, J2, J3, k1, k2):
+    """The closed form: ω² are the roots of J1·J2·J3·ω⁴ − (k1·J3·(J1+J2) + k2·J1·(J2+J3))·ω²
+    + k1·k2·(J1+J2+J3) = 0, det(K − ω²·J) = 0 of a free three-disc shaft, ω = 0 removed."""
+    omega2 = np.sort(np.roots([J1 * J2 * J3, -(k1 * J3 * (J1 + J2) + k2 * J1 * (J2 + J3)),
+                               k1 * k2 * (J1 + J2 + J3)]).real)
+    return np.sqrt(omega2) / (2 * np.pi)
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_a_typed_three_rotor_system_gives_its_closed_form(checked, engine):
+    recalculated = checked["thesis_edit_speed"].engines[engine]
+    assert list(recalculated["q_station_inertia"]) == [0.3, 1.2, 0.7]
+    closed = _three_rotor_frequencies(0.3, 1.2, 0.7, 2.0e5, 3.5e5)
+    assert closed[-1] < 400.0                      # both on the 1 Hz × 400 grid
+    found = np.asarray(recalculated["q_natural_frequency"], dtype=float)
+    assert found == pytest.approx(closed, rel=1e-3)
+    # the mode shape's shaft torque behind the last station is the residual: ~0
+    torque = np.asarray(recalculated["q_mode_torque"], dtype=float)
+    stiffness = np.asarray(recalculated["q_section_stiffness"], dtype=float)
+    assert np.all(np.abs(torque[-1]) < 2e-3 * stiffness.max())
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_a_grid_that_finds_no_mode_says_so_in_the_status_cell(checked, engine):
+    recalculated = checked["thesis_edit_exact"].engines[engine]
+    assert recalculated["q_inputs_valid"] == 1
+    assert recalculated["q_holzer_found_none"] == 1
+    assert "p_holzer_step" in recalculated["q_input_status"]
+    assert all(v in (None, "") for v in recalculated["q_natural_frequency"])
+    assert all(v in (None, "") for row in recalculated["q_mode_shape"] for v in
+               (row if isinstance(row, (list, tuple)) else [row]))
+    assert "p_holzer_step" not in checked["thesis_step3"].engines[engine]["q_input_status"]

@@ -182,3 +182,78 @@ def test_the_export_carries_the_system_and_harmonics_that_sum_to_the_engine(tmp_
             back["engine_torque_amplitude"]))
     done = run_cli("export", "torsion", tmp_path / "nothing.xlsx", "-o", tmp_path / "x")
     assert done.returncode == 2 and done.stderr.count("\n") == 1
+
+
+@pytest.mark.parametrize("preset", ["thesis", "inline-4", "inline-6", "v8-crossplane"])
+def test_the_workbooks_mode_shapes_are_the_eigenvectors(preset):
+    """Each found mode's column is the generalised eigenvector of K·v = ω²·J·v,
+    scaled so the pulley's amplitude is 1 (to the Holzer grid's interpolation)."""
+    import crankbook
+    r = crankbook.compute(preset, step=30.0)
+    J, k = r["station_inertia"], r["section_stiffness"]
+    n = J.size
+    K = np.diag(np.r_[k, 0.0] + np.r_[0.0, k]) - np.diag(k, 1) - np.diag(k, -1)
+    omega2, vectors = np.linalg.eig(np.linalg.solve(np.diag(J), K))
+    order = np.argsort(omega2.real)
+    shapes = np.asarray(r["mode_shape"], dtype=float)
+    assert shapes.shape == (n, n - 1)
+    for mode in range(n - 1):
+        if np.isnan(r["natural_frequency"][mode]):
+            assert np.all(np.isnan(shapes[:, mode]))
+            continue
+        v = vectors[:, order[mode + 1]].real
+        assert shapes[:, mode] == pytest.approx(v / v[0], abs=2e-2), (preset, mode)
+        modal = float(np.sum(J * shapes[:, mode] ** 2))
+        assert r["modal_inertia"][mode] == pytest.approx(modal, rel=1e-12)
+
+
+@pytest.mark.parametrize("preset,major", [("inline-4", 2.0), ("inline-6", 3.0)])
+def test_at_a_major_order_every_cylinder_adds_in_phase(preset, major):
+    """The workbook's vector sum at a major order is the plain sum of the mode's
+    amplitudes at the throws; at every order it is at most the sum of their sizes."""
+    import crankbook
+    r = crankbook.compute(preset, step=30.0)
+    beta = np.asarray(r["mode_shape"], dtype=float)[1:-1, 0]          # the throws
+    sums = np.asarray(r["relative_amplitude_sum"], dtype=float)[:, 0]
+    for k, total in zip(r["torsion_order"], sums):
+        assert total <= np.sum(np.abs(beta)) * (1 + 1e-12)
+        if abs(k / major - round(k / major)) < 1e-12:
+            assert total == pytest.approx(abs(beta.sum()), rel=1e-12), k
+
+
+def test_the_resonant_amplitude_is_the_damped_forced_response():
+    """The energy balance's θ_1 against the steady response of the damped chain, solved
+    directly: (K − ω²·J + j·ω·C)·x = F at ω = ω_1, with C = 2·ζ·ω_1·J (the mass-
+    proportional damping whose first mode has the ratio ζ) and each cylinder's order-k
+    torque at its throw with its firing phase.  Light damping: the resonant mode
+    dominates, and the two agree within the other modes' share."""
+    import crankbook
+    zeta = 0.005
+    r = crankbook.compute("inline-6", step=10.0, torsion_damping_ratio=zeta)
+    J, k = r["station_inertia"], r["section_stiffness"]
+    K = np.diag(np.r_[k, 0.0] + np.r_[0.0, k]) - np.diag(k, 1) - np.diag(k, -1)
+    f1 = torsional.natural_frequencies(J, k)[0]
+    omega = 2 * np.pi * f1
+    orders = list(r["torque_order"])
+    for row, order in enumerate(r["torsion_order"]):
+        if order not in (3.0, 6.0, 1.5):
+            continue
+        amplitude = r["cylinder_torque_amplitude"][orders.index(order)]
+        phases = np.radians(np.asarray(r.parameters["firing_angle"], dtype=float))
+        F = np.zeros(J.size, dtype=complex)
+        for throw, phase in zip(r.parameters["throw"], phases):
+            F[int(throw)] += amplitude * np.exp(1j * order * phase)
+        x = np.linalg.solve(K - omega ** 2 * np.diag(J) + 1j * omega * 2 * zeta * omega *
+                            np.diag(J), F)
+        expected = np.degrees(abs(x[0]))
+        assert r["resonant_amplitude"][row, 0] == pytest.approx(expected, rel=0.03), order
+
+
+def test_typed_values_must_fill_the_stations():
+    import crankbook
+    from crankbook.errors import LayoutError
+    typed = crankbook.compute("thesis", station_inertia_typed=[0, 0, 2.0],
+                              section_stiffness_typed=[1e5, 0])
+    assert typed["station_inertia"][-1] == 2.0 and typed["section_stiffness"][0] == 1e5
+    with pytest.raises(LayoutError, match="station_inertia_typed has 2 values"):
+        crankbook.compute("thesis", station_inertia_typed=[0, 0])

@@ -195,6 +195,7 @@ def validate(spec, values, trace_points=0, tables=None, grids=None):
                 raise ParameterValueError(f"parameter {parameter.key}{where} = {shown}: must be "
                                           f"{parameter.bounds_text()}")
     sizes = axis_sizes(spec, values)
+    values = fit_derived_items(spec, values, sizes)
     for axis in spec.axes:
         if sizes[axis.key] > axis.max:
             raise LayoutError(f"{sizes[axis.key]} {axis.label_en.lower()}s: at most {axis.max}")
@@ -216,4 +217,25 @@ def validate(spec, values, trace_points=0, tables=None, grids=None):
                 where = f"{spec.axis[rule.items].label_en.lower()} {first}: "
             raise GeometryError(f"{where}{_describe(spec, rule.names, values, first)}: "
                                 f"{rule.en}")
+    return values
+
+
+def fit_derived_items(spec, values, sizes):
+    """Per-item parameters of an axis sized by other inputs (a typed inertia per
+    station, whose count follows the throws): left at their default, one value per
+    item; typed, exactly one per item, else a LayoutError naming the parameter."""
+    values = dict(values)
+    for parameter in spec.parameters:
+        axis = spec.axis.get(parameter.axis) if parameter.axis else None
+        if axis is None or not axis.size_calc:
+            continue
+        given, count = list(values[parameter.key]), sizes[axis.key]
+        if len(given) == count:
+            continue
+        if given == list(parameter.default):
+            values[parameter.key] = [parameter.default[0]] * count
+            continue
+        raise LayoutError(f"parameter {parameter.key} has {len(given)} values: the "
+                          f"{axis.en.lower()} table has {count} "
+                          f"({axis.label_en.lower()} 1 … {count}), one value each")
     return values

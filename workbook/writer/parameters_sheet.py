@@ -165,11 +165,18 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
                 STATUS_OK[1] + " / " + STATUS_OK[0][2:]
             msg = f"${primary}${first + 1}:${primary}${last + 1}"
             msg_other = f"${other}${first + 1}:${other}${last + 1}"
-            status = (f'=IF(SUM({flags})=0,"{ok_text}","✗ "&INDEX({msg},MATCH(1,{flags},0))'
+            # notes marked ``status`` (a Holzer grid that misses modes) follow the ✓:
+            # the inputs are valid, but some cells are blank, and the status says why
+            ok_formula, ok_value = f'"{ok_text}"', ok_text
+            for note in (n for n in spec.notes if n.get("status")):
+                key, text = note["when_nonzero"], f"{note[lang]} / {note[layout.other]}"
+                ok_formula += f'&IF({layout.locator.name(key)}<>0," — {text}","")'
+                ok_value += f" — {text}" if float({**values, **results}[key]) != 0 else ""
+            status = (f'=IF(SUM({flags})=0,{ok_formula},"✗ "&INDEX({msg},MATCH(1,{flags},0))'
                       f'&" / "&INDEX({msg_other},MATCH(1,{flags},0))'
                       f'&IF(SUM({flags})>1," (+"&(SUM({flags})-1)&")",""))')
             ws.merge_range(status_row, 1, status_row, 5, "", styles.status)
-            ws.write_formula(status_row, 1, status, styles.status, ok_text)
+            ws.write_formula(status_row, 1, status, styles.status, ok_value)
             ws.conditional_format(status_row, 1, status_row, 5, {
                 "type": "formula", "criteria": "=q_inputs_valid=1", "format": styles.status_ok})
             ws.conditional_format(status_row, 1, status_row, 5, {

@@ -22,7 +22,7 @@ def write_summary_sheet(book, layout, values, results, styles):
     # series columns hold for a centric mechanism only)
     for number, note in enumerate(spec.notes):
         key, text = note["when_nonzero"], f"{note[lang]} / {note[layout.other]}"
-        shown = text if float(values[key]) != 0 else ""
+        shown = text if float({**values, **results}[key]) != 0 else ""
         ws.write_formula(2, 2 * number, f'=IF({layout.locator.name(key)}<>0,"{text}","")',
                          styles.warning, shown)
 
