@@ -26,6 +26,8 @@ References
 Seed 001 (guide: 附表1, valve advances; report R07 §2.2); any mechanism-design text
 (e.g. 孙桓《机械原理》, cam chapter) for the motion laws and curvature.
 """
+from typing import NamedTuple
+
 import numpy as np
 
 LAWS = ("constant_velocity", "constant_acceleration", "cosine", "cycloidal", "3-4-5")
@@ -68,9 +70,31 @@ def piece(cam_angle, rise_angle, far_dwell, return_angle):
                     np.where(delta < ends[1] - tol, 1, np.where(delta < ends[2] - tol, 2, 3)))
 
 
+class Motion(NamedTuple):
+    """The follower's motion: s [m], ds/dδ [m/rad], d²s/dδ² [m/rad²]."""
+    displacement: np.ndarray
+    slope: np.ndarray
+    second_slope: np.ndarray
+
+
+class Point(NamedTuple):
+    """A curve's coordinates [m]."""
+    x: np.ndarray
+    y: np.ndarray
+
+
+class PitchDerivatives(NamedTuple):
+    """dx/dδ, dy/dδ [m/rad] and d²x/dδ², d²y/dδ² [m/rad²] of the (unmirrored) pitch
+    curve."""
+    dx: np.ndarray
+    dy: np.ndarray
+    ddx: np.ndarray
+    ddy: np.ndarray
+
+
 def follower_derivatives(cam_angle, lift, rise_angle, far_dwell, return_angle, rise_law,
                          return_law):
-    """(s, ds/dδ, d²s/dδ²) of the follower [m, m/rad, m/rad²]."""
+    """(s, ds/dδ, d²s/dδ²) of the follower [m, m/rad, m/rad²], a :class:`Motion`."""
     delta = np.asarray(cam_angle, dtype=float)
     part = piece(delta, rise_angle, far_dwell, return_angle)
     u_rise = np.clip(delta / rise_angle, 0, 1)
@@ -82,7 +106,7 @@ def follower_derivatives(cam_angle, lift, rise_angle, far_dwell, return_angle, r
                    0.0)
     dds = np.select([part == 0, part == 2], [lift * ddf / rise_angle ** 2,
                                              -lift * ddg / return_angle ** 2], 0.0)
-    return s, ds, dds
+    return Motion(s, ds, dds)
 
 
 def pitch_curve(cam_angle, displacement, offset, base_radius, rotation):
@@ -91,18 +115,22 @@ def pitch_curve(cam_angle, displacement, offset, base_radius, rotation):
     s0 = np.sqrt(base_radius ** 2 - offset ** 2)
     x = (s0 + displacement) * np.sin(delta) + offset * np.cos(delta)
     y = (s0 + displacement) * np.cos(delta) - offset * np.sin(delta)
-    return rotation * x, y
+    return Point(rotation * x, y)
 
 
-def _pitch_derivatives(delta, s, ds, dds, offset, s0):
-    r = s0 + s
+def pitch_derivatives(cam_angle, displacement, slope, offset, base_radius, second_slope=0.0):
+    """First and second derivatives in δ of the unmirrored pitch curve, a
+    :class:`PitchDerivatives` (the second ones need ``second_slope``)."""
+    delta = np.asarray(cam_angle, dtype=float)
+    r = np.sqrt(base_radius ** 2 - offset ** 2) + displacement
+    ds, dds = slope, second_slope
     x1 = ds * np.sin(delta) + r * np.cos(delta) - offset * np.sin(delta)
     y1 = ds * np.cos(delta) - r * np.sin(delta) - offset * np.cos(delta)
     x2 = dds * np.sin(delta) + 2 * ds * np.cos(delta) - r * np.sin(delta) \
         - offset * np.cos(delta)
     y2 = dds * np.cos(delta) - 2 * ds * np.sin(delta) - r * np.cos(delta) \
         + offset * np.sin(delta)
-    return x1, y1, x2, y2
+    return PitchDerivatives(x1, y1, x2, y2)
 
 
 def pitch_curvature_radius(cam_angle, displacement, slope, curvature, offset, base_radius):
@@ -110,9 +138,8 @@ def pitch_curvature_radius(cam_angle, displacement, slope, curvature, offset, ba
 
     ``slope`` and ``curvature`` are ds/dδ and d²s/dδ² [m/rad, m/rad²].
     """
-    s0 = np.sqrt(base_radius ** 2 - offset ** 2)
-    x1, y1, x2, y2 = _pitch_derivatives(np.asarray(cam_angle, dtype=float), displacement,
-                                        slope, curvature, offset, s0)
+    x1, y1, x2, y2 = pitch_derivatives(cam_angle, displacement, slope, offset, base_radius,
+                                       curvature)
     with np.errstate(divide="ignore", invalid="ignore"):
         return -(x1 ** 2 + y1 ** 2) ** 1.5 / (x1 * y2 - y1 * x2)
 
@@ -120,12 +147,10 @@ def pitch_curvature_radius(cam_angle, displacement, slope, curvature, offset, ba
 def roller_profile(cam_angle, displacement, slope, offset, base_radius, roller_radius,
                    rotation):
     """(x, y) of the actual (roller) profile: the inner envelope of the roller [m]."""
-    delta = np.asarray(cam_angle, dtype=float)
-    s0 = np.sqrt(base_radius ** 2 - offset ** 2)
-    x, y = pitch_curve(delta, displacement, offset, base_radius, 1)
-    x1, y1, _, _ = _pitch_derivatives(delta, displacement, slope, 0.0, offset, s0)
+    x, y = pitch_curve(cam_angle, displacement, offset, base_radius, 1)
+    x1, y1, _, _ = pitch_derivatives(cam_angle, displacement, slope, offset, base_radius)
     length = np.hypot(x1, y1)
-    return rotation * (x + roller_radius * y1 / length), y - roller_radius * x1 / length
+    return Point(rotation * (x + roller_radius * y1 / length), y - roller_radius * x1 / length)
 
 
 def pressure_angle(displacement, slope, offset, base_radius):
@@ -147,35 +172,8 @@ def cam_angular_velocity(crank_speed, gear_ratio):
 
 
 # ---------------------------------------------------------------- the workbook's columns
-# One function per column of a cam block; arguments named as the block's inputs
-# (cam_lift, cam_rise_angle, …), which each cam's placement maps to its own.
-def _motion(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
-            cam_rise_law, cam_return_law):
-    return follower_derivatives(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell,
-                                cam_return_angle, cam_rise_law, cam_return_law)
-
-
-def displacement(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
-                 cam_rise_law, cam_return_law):
-    """Follower displacement s(δ) [m]."""
-    return _motion(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
-                   cam_rise_law, cam_return_law)[0]
-
-
-def slope(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
-          cam_rise_law, cam_return_law):
-    """ds/dδ [m/rad]."""
-    return _motion(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
-                   cam_rise_law, cam_return_law)[1]
-
-
-def second_slope(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
-                 cam_rise_law, cam_return_law):
-    """d²s/dδ² [m/rad²]."""
-    return _motion(cam_angle, cam_lift, cam_rise_angle, cam_far_dwell, cam_return_angle,
-                   cam_rise_law, cam_return_law)[2]
-
-
+# Columns the physics above does not already give (a template takes one part of a
+# function of several with ``part``, and names its arguments with ``args``).
 def times_speed(value, cam_angular_velocity, power=1):
     """A derivative in δ times ω^power: per second [m/s or m/s²]."""
     return np.asarray(value) * cam_angular_velocity ** power
@@ -184,44 +182,6 @@ def times_speed(value, cam_angular_velocity, power=1):
 def times_speed_squared(value, cam_angular_velocity):
     """d²s/dδ²·ω² [m/s²]."""
     return times_speed(value, cam_angular_velocity, 2)
-
-
-def pitch_x(cam_angle, cam_displacement, cam_offset, cam_base_radius, cam_rotation):
-    """x of the pitch curve [m]."""
-    return pitch_curve(cam_angle, cam_displacement, cam_offset, cam_base_radius,
-                       cam_rotation)[0]
-
-
-def pitch_y(cam_angle, cam_displacement, cam_offset, cam_base_radius, cam_rotation):
-    """y of the pitch curve [m]."""
-    return pitch_curve(cam_angle, cam_displacement, cam_offset, cam_base_radius,
-                       cam_rotation)[1]
-
-
-def profile_x(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius,
-              cam_roller_radius, cam_rotation):
-    """x of the actual (roller) profile [m]."""
-    return roller_profile(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius,
-                          cam_roller_radius, cam_rotation)[0]
-
-
-def profile_y(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius,
-              cam_roller_radius, cam_rotation):
-    """y of the actual (roller) profile [m]."""
-    return roller_profile(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius,
-                          cam_roller_radius, cam_rotation)[1]
-
-
-def pressure_angle_column(cam_displacement, cam_slope, cam_offset, cam_base_radius):
-    """Pressure angle α(δ) [rad]."""
-    return pressure_angle(cam_displacement, cam_slope, cam_offset, cam_base_radius)
-
-
-def curvature_column(cam_angle, cam_displacement, cam_slope, cam_second_slope, cam_offset,
-                     cam_base_radius):
-    """Radius of curvature of the pitch curve, convex positive [m]."""
-    return pitch_curvature_radius(cam_angle, cam_displacement, cam_slope, cam_second_slope,
-                                  cam_offset, cam_base_radius)
 
 
 def required_base_radius_column(cam_angle, cam_displacement, cam_slope, cam_offset,
@@ -258,20 +218,6 @@ def convex_min(values):
 def base_offset(cam_base_radius, cam_offset):
     """s0 = √(r0² − e²) [m]."""
     return np.sqrt(cam_base_radius ** 2 - cam_offset ** 2)
-
-
-def pitch_dx(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius):
-    """dx/dδ of the (unmirrored) pitch curve [m/rad]."""
-    s0 = base_offset(cam_base_radius, cam_offset)
-    return _pitch_derivatives(np.asarray(cam_angle, dtype=float), cam_displacement, cam_slope,
-                              0.0, cam_offset, s0)[0]
-
-
-def pitch_dy(cam_angle, cam_displacement, cam_slope, cam_offset, cam_base_radius):
-    """dy/dδ of the pitch curve [m/rad]."""
-    s0 = base_offset(cam_base_radius, cam_offset)
-    return _pitch_derivatives(np.asarray(cam_angle, dtype=float), cam_displacement, cam_slope,
-                              0.0, cam_offset, s0)[1]
 
 
 def checks_pass(cam_max_pressure_angle, cam_allowable_pressure_angle,

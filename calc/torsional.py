@@ -29,6 +29,8 @@ Chapman & Hall, 1956 (Carter's formula for the stiffness of a crank throw).
 Thesis 000 §1 (vibration among the high-speed engine's problems); seed 004 (the
 reciprocating mass's mean equivalent m_j·r²·(1/2 + λ²/8)).
 """
+from typing import NamedTuple
+
 import numpy as np
 
 ORDERS = tuple(k / 2 for k in range(1, 25))          # 0.5, 1, …, 12
@@ -96,6 +98,12 @@ def shaft_stiffness(shear_modulus, diameter, length, bore=0.0):
 
 
 # ---------------------------------------------------------------- Holzer's table
+class HolzerTable(NamedTuple):
+    """Holzer's table: θ_i [rad per rad of the front station] and T_i [N·m/rad]."""
+    amplitude: np.ndarray
+    torque: np.ndarray
+
+
 def holzer(omega, inertia, stiffness):
     """Holzer's table at circular frequencies ``omega``.
 
@@ -130,7 +138,7 @@ def holzer(omega, inertia, stiffness):
             theta = theta - total / stiffness[i - 1]
         total = total + inertia[i] * w2 * theta
         amplitude[:, i], torque[:, i] = theta, total
-    return amplitude, torque
+    return HolzerTable(amplitude, torque)
 
 
 def holzer_frequencies(inertia, stiffness, step, max_frequency):
@@ -262,16 +270,11 @@ def section_stiffnesses(shear_modulus, main_journal_diameter, main_journal_bore,
     return np.where(typed > 0, typed, computed)
 
 
-def holzer_amplitude(holzer_frequency, station_inertia, section_stiffness):
-    """θ_i at each trial frequency, θ_1 = 1: (rows, stations)."""
+def holzer_table(holzer_frequency, station_inertia, section_stiffness):
+    """Holzer's table at each trial frequency [Hz], θ_1 = 1: a :class:`HolzerTable` of
+    (rows, stations) arrays."""
     return holzer(2 * np.pi * np.ravel(holzer_frequency).astype(float), station_inertia,
-                  section_stiffness)[0]
-
-
-def holzer_torque(holzer_frequency, station_inertia, section_stiffness):
-    """T_i at each trial frequency [N·m per rad of the front station]: (rows, stations)."""
-    return holzer(2 * np.pi * np.ravel(holzer_frequency).astype(float), station_inertia,
-                  section_stiffness)[1]
+                  section_stiffness)
 
 
 def holzer_residual(holzer_torque):
@@ -335,24 +338,17 @@ def station_numbers(throw):
     return np.arange(1, station_count(throw) + 1, dtype=float)
 
 
-def mode_shape(natural_frequency, station_inertia, section_stiffness):
-    """(stations, modes) relative amplitudes θ_i at each natural frequency, θ_1 = 1;
-    a mode the grid did not find is a column of NaN."""
+def mode_table(natural_frequency, station_inertia, section_stiffness):
+    """Holzer's table redone at each natural frequency [Hz]: a :class:`HolzerTable` of
+    (stations, modes) arrays — the mode shapes (θ_1 = 1) and the shaft torques behind
+    each station [N·m/rad]; a mode the grid did not find is a column of NaN."""
     f = np.asarray(natural_frequency, dtype=float)
-    out = np.full((np.asarray(station_inertia).size, f.size), np.nan)
+    shape = (np.asarray(station_inertia).size, f.size)
+    amplitude, torque = np.full(shape, np.nan), np.full(shape, np.nan)
     found = ~np.isnan(f)
-    out[:, found] = holzer(2 * np.pi * f[found], station_inertia, section_stiffness)[0].T
-    return out
-
-
-def mode_torque(natural_frequency, station_inertia, section_stiffness):
-    """(stations, modes) shaft torque behind each station per rad of the front station
-    [N·m/rad] at each natural frequency; NaN for a mode not found."""
-    f = np.asarray(natural_frequency, dtype=float)
-    out = np.full((np.asarray(station_inertia).size, f.size), np.nan)
-    found = ~np.isnan(f)
-    out[:, found] = holzer(2 * np.pi * f[found], station_inertia, section_stiffness)[1].T
-    return out
+    table = holzer(2 * np.pi * f[found], station_inertia, section_stiffness)
+    amplitude[:, found], torque[:, found] = table.amplitude.T, table.torque.T
+    return HolzerTable(amplitude, torque)
 
 
 def modal_inertia(natural_frequency, station_inertia, mode_shape):

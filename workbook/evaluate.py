@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from crankbook import units
-from crankbook.errors import BuildOptionError, LayoutError
+from crankbook.errors import BuildOptionError, LayoutError, SpecError
 from crankbook.spec import calc_function
 
 MIN_STEP = 0.1           # deg: a V8 at 0.1° builds in 1.3 GB; 0.01° needed 3.7 GB
@@ -100,6 +100,16 @@ def _as_grid_dict(spec, grids):
     return {**build_grids(spec), spec.grid.key: np.asarray(grids, dtype=float)}
 
 
+def part_of(result, q):
+    """The part ``q.part`` of a calc result of several named parts (a NamedTuple's
+    field or a mapping's key): ``part = "x"`` of ``calc.cam.pitch_curve``."""
+    if hasattr(result, "_fields") and q.part in result._fields:
+        return getattr(result, q.part)
+    if isinstance(result, dict) and q.part in result:
+        return result[q.part]
+    raise SpecError(q.source, q.key, f"calc {q.calc!r} has no part {q.part!r}")
+
+
 class Evaluator:
     """Lazily computes quantities in SI units, each once, from the inputs."""
 
@@ -143,6 +153,8 @@ class Evaluator:
         """``q``'s calc function on ``kwargs``, shaped as ``q`` is."""
         with np.errstate(all="ignore"):
             result = q.calc_function()(**kwargs)
+        if q.part is not None:
+            result = part_of(result, q)
         if q.is_grid:
             return np.asarray(result, dtype=float)
         if q.is_series or q.items:

@@ -143,6 +143,7 @@ class Quantity:
     formula: str | None
     calc: str | None
     args: dict = field(default_factory=dict)
+    part: str | None = None       # one named part of a calc result of several (x of a curve)
     sheet: str | None = None
     summary: bool = False
     format: str | None = None

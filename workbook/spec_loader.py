@@ -111,14 +111,16 @@ def _quantity(entry, kind, **extra):
     file = entry.get("_file", "?")
     for field in ("key", "unit", "zh", "en"):
         _need(entry, field, kind)
-    known = {"key", "unit", "zh", "en", "formula", "calc", "args", "summary", "format", "first",
+    known = {"key", "unit", "zh", "en", "formula", "calc", "args", "part", "summary", "format",
+             "first",
              "guard", "array", "items", "_file", "_prefix", "names", "discrete", "must_pass"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, entry["key"], f"unknown field(s) {', '.join(sorted(unknown))}")
     return Quantity(key=entry["key"], kind=kind, unit=entry["unit"], zh=entry["zh"],
                     en=entry["en"], formula=entry.get("formula"), calc=entry.get("calc"),
-                    args=dict(entry.get("args", {})), summary=entry.get("summary", False),
+                    args=dict(entry.get("args", {})), part=entry.get("part"),
+                    summary=entry.get("summary", False),
                     format=entry.get("format"), first=entry.get("first"),
                     guard=entry.get("guard", True), array=entry.get("array", False),
                     items=entry.get("items"), names=tuple(entry.get("names", ())),
