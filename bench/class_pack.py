@@ -36,7 +36,7 @@ def main():
     import openpyxl
 
     from crankbook.assignment import template
-    from crankbook.workbook_reader import cells as read_cells, defined_ranges, open_book
+    from crankbook.reading.workbook_reader import cells as read_cells, defined_ranges, open_book
 
     def named_values(path):
         book = open_book(path)

@@ -10,7 +10,7 @@ import time
 from pathlib import Path
 
 import crankbook
-from crankbook import recalc
+from crankbook.reading import recalc
 
 
 def main():

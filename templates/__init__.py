@@ -1,5 +1,5 @@
 """Data of crankbook: workbook templates, presets, groups, claims, assignments and units.
 
 Nothing here is code; the files are read through importlib.resources
-(crankbook.resources), so they work the same from a wheel and from the source tree.
+(crankbook.support.resources), so they work the same from a wheel and from the source tree.
 """

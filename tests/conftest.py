@@ -13,8 +13,8 @@ from pathlib import Path
 import openpyxl
 import pytest
 
-from crankbook.recalc import find_soffice, find_ssconvert
-from crankbook.workbook_reader import cells, defined_ranges, open_book
+from crankbook.reading.recalc import find_soffice, find_ssconvert
+from crankbook.reading.workbook_reader import cells, defined_ranges, open_book
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from crankbook import recalc
-from crankbook.verification import expected_values
-from crankbook.workbook_reader import load_named
+from crankbook.reading import recalc
+from crankbook.reading.verification import expected_values
+from crankbook.reading.workbook_reader import load_named
 from tests.conftest import edit_cells, named, run_cli
 
 ENGINES = ("libreoffice", "gnumeric")

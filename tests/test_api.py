@@ -12,9 +12,9 @@ import pytest
 import crankbook
 from crankbook.errors import (GeometryError, ParameterValueError, UnknownParameterError,
                               UnknownPresetError)
-from crankbook.workbook_audit import audit_workbook
+from crankbook.audit.returned import audit_workbook
 from crankbook.writer.series_sheet import cached
-from crankbook.xlsx_reader import XlsxBook
+from crankbook.reading.xlsx_reader import XlsxBook
 from tests.conftest import run_cli
 
 

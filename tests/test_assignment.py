@@ -14,7 +14,7 @@ import numpy as np
 import openpyxl
 import pytest
 
-from crankbook import recalc
+from crankbook.reading import recalc
 from crankbook.assignment import template as templates
 from crankbook.assignment.scoring import score_cell
 from crankbook.calc import mechanism
@@ -145,7 +145,7 @@ def graded(pack, tmp_path_factory, soffice):
 
 def consequential_answers(pack, sid):
     """s06's answers: r and l 10 % off, the rest computed with their own r and l."""
-    from crankbook import params
+    from crankbook.spec import params
     from crankbook.assignment.grade import manifest_values
     from crankbook.assignment.key import expected, key_results
     spec, _, preset = params.load_preset("course-design")
@@ -587,7 +587,7 @@ def test_consequential_credit_follows_the_students_whole_mechanism(pack, tmp_pat
     """A wrong K carried through correctly: θ, r (inside the tolerance) and l (far off)
     are the student's own, and so are the positions A12–A14; every downstream item
     earns at least 90 % of the consequential credit the rubric allows."""
-    from crankbook import params
+    from crankbook.spec import params
     from crankbook.assignment.grade import manifest_values
     from crankbook.assignment.key import expected, key_results
     spec, _, preset = params.load_preset("course-design")
@@ -690,7 +690,7 @@ def test_a_gradebook_as_teachers_open_it(tmp_path):
 def test_every_drawn_variant_passes_every_check():
     """500 students: each key's checks pass (no cam below its own smallest base radius,
     no undercut, no pointed tooth) — what assign writes into the keys."""
-    from crankbook import params
+    from crankbook.spec import params
     from crankbook.assignment.key import key_results
     from crankbook.assignment.variants import draw_class
     spec, base, preset = params.load_preset("course-design")
@@ -996,7 +996,7 @@ def test_groups_share_the_guides_table_and_keep_their_own_valve_trains(tmp_path)
 
 
 def test_a_teachers_own_assignment_file(tmp_path):
-    from crankbook import resources
+    from crankbook.support import resources
     text = resources.read_text(templates.ASSIGNMENTS, "course-design.toml")
     text = text.replace("stroke = { min = 200.0, max = 400.0, step = 10.0 }",
                         "stroke = { min = 250.0, max = 250.0, step = 10.0 }")

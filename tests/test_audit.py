@@ -12,7 +12,8 @@ import pytest
 from crankbook.calc import mechanism
 from tests.conftest import run_cli
 from tests.test_cli import _assert_clean_refusal
-from crankbook import claims, recalc
+from crankbook.audit import claims
+from crankbook.reading import recalc
 
 DOCUMENTS = ["thesis", "course-report", "compressor", "offset-piston", "balancing-ring"]
 
@@ -137,7 +138,7 @@ def test_audit_all_writes_workbook_report_and_json(tmp_path):
     done = run_cli("audit", "all", "-o", out, "--json", tmp_path / "f.json")
     assert done.returncode == 0, done.stderr
     data = json.loads((tmp_path / "f.json").read_text(encoding="utf-8"))
-    from crankbook.audit_book import FINDING_FIELDS
+    from crankbook.audit.book import FINDING_FIELDS
     assert data["findings"] and all(set(f) == set(FINDING_FIELDS) for f in data["findings"])
     assert {f["document"] for f in data["findings"]} == set(DOCUMENTS)
     assert all(isinstance(f["line"], int) for f in data["findings"])
@@ -151,7 +152,7 @@ def test_audit_all_writes_workbook_report_and_json(tmp_path):
 
 @pytest.mark.libreoffice
 def test_audit_workbook_formulas_agree_with_python(soffice, tmp_path):
-    from crankbook.audit_book import HEADER_ROW, STATUSES
+    from crankbook.audit.book import HEADER_ROW, STATUSES
     out = tmp_path / "audit.xlsx"
     assert run_cli("audit", "all", "-o", out).returncode == 0
     converted = recalc.convert([out], tmp_path / "lo")[0]

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import crankbook
-from crankbook import params
+from crankbook.spec import params
 from crankbook.errors import CrankbookError
 
 

@@ -4,7 +4,7 @@ import pytest
 
 from tests.conftest import run_cli
 from tests.test_cli import _assert_clean_refusal
-from crankbook import params
+from crankbook.spec import params
 
 POS_NAMES = ["pos_crank_angle", "pos_cylinder_pressure", "pos_slider_displacement",
              "pos_slider_velocity", "pos_rod_angular_velocity", "pos_rod_cg_velocity",

@@ -4,7 +4,7 @@ included — and the values cached in the file are the ones the engines compute.
 import numpy as np
 import pytest
 
-from crankbook.compare import compare
+from crankbook.reading.compare import compare
 from tests.cross_check import ENGINES, WORKBOOKS
 
 VALID = [n for n, e in WORKBOOKS.items() if e.get("valid", True)]

@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 from crankbook.calc import cycle, forces, kinematics as k, pressure as p
-from crankbook import evaluate, params
+from crankbook.spec import evaluate
+from crankbook.spec import params
 
 
 def test_thesis_reciprocating_mass_is_515_g():

@@ -14,7 +14,7 @@ import openpyxl
 import pytest
 
 from crankbook import cli
-from crankbook.workspace import sweep_temporary
+from crankbook.support.workspace import sweep_temporary
 from tests.conftest import run_cli
 from tests.test_assignment import fill, key_answers, write_roster
 

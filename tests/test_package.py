@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 import crankbook
-from crankbook import resources
+from crankbook.support import resources
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -10,9 +10,11 @@ import numpy as np
 import openpyxl
 import pytest
 
-from crankbook import compute, recalc
-from crankbook.spec_loader import load as load_spec
-from crankbook.toml_files import names_in
+from crankbook import compute
+
+from crankbook.reading import recalc
+from crankbook.spec.loader import load as load_spec
+from crankbook.support.toml_files import names_in
 from crankbook.writer.charts import FRAME_LABEL, frame_values
 from tests.conftest import ROOT, named
 

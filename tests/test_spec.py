@@ -9,11 +9,17 @@ import re
 import numpy as np
 import pytest
 
-from crankbook import evaluate, params, placeholders, resources
+from crankbook.spec import evaluate
+
+from crankbook.spec import params
+
+from crankbook.spec import placeholders
+
+from crankbook.support import resources
 from crankbook.errors import SpecError
-from crankbook.formulas import Context, Locator, Place
-from crankbook.pressure_file import close_cycle
-from crankbook.spec_loader import from_data, load, template_names
+from crankbook.spec.formulas import Context, Locator, Place
+from crankbook.reading.pressure_file import close_cycle
+from crankbook.spec.loader import from_data, load, template_names
 from tests.conftest import named, run_cli
 
 CONTRACT = {  # issue 3: q_ names and their units

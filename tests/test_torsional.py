@@ -5,7 +5,7 @@ of the presets' firing orders (Den Hartog, Mechanical Vibrations, §5.8)."""
 import numpy as np
 import pytest
 
-from crankbook import params
+from crankbook.spec import params
 from crankbook.calc import multicylinder, torsional
 
 HOLZER_REL = 2e-4          # linear interpolation on a 0.05 Hz grid, relative to f

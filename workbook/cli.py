@@ -194,13 +194,13 @@ def _build_parser():
 
 def _build(args):
     from crankbook.api import compute
-    from crankbook.params import parse_assignments
+    from crankbook.spec.params import parse_assignments
 
     started = time.perf_counter()
     overrides = parse_assignments(args.assignments)
     if args.cam_step is not None:
         overrides["cam_step"] = args.cam_step
-    from crankbook.progress import waiting
+    from crankbook.support.progress import waiting
     with waiting("build: computing", _progress(args)):
         results = compute(args.preset, group=args.group, pressure=args.pressure,
                           step=args.step, **overrides)
@@ -268,8 +268,8 @@ def _report_verified(path, frame):
 def _audit(args):
     from pathlib import Path
 
-    from crankbook import claims
-    from crankbook.audit_book import write_audit_workbook, write_json, write_markdown
+    from crankbook.audit import claims
+    from crankbook.audit.book import write_audit_workbook, write_json, write_markdown
 
     target = args.target
     if target.lower().endswith((".xlsx", ".xlsm", ".xls")) or Path(target).is_file():
@@ -282,7 +282,7 @@ def _audit(args):
     # may come from $CRANKBOOK_SEEDS (they are needed to count the coverage)
     sources = args.sources or os.environ.get("CRANKBOOK_SEEDS") or None
     problems = _source_problems(documents, Path(sources)) if sources else None
-    from crankbook.progress import steps
+    from crankbook.support.progress import steps
     for document in steps(documents, "audit: recomputing", progress=_progress(args),
                           unit="document"):
         document.findings()                  # computed once; the outputs read them
@@ -309,7 +309,7 @@ def _audit(args):
 def _source_problems(documents, folder):
     """(document, claim, why) for every reported number not at its line of the seed
     files in ``folder``."""
-    from crankbook import claims
+    from crankbook.audit import claims
 
     problems = []
     for document in documents:
@@ -325,7 +325,7 @@ def _source_problems(documents, folder):
 
 
 def _audit_workbook(path):
-    from crankbook.workbook_audit import audit_workbook
+    from crankbook.audit.returned import audit_workbook
 
     spec, findings, recalculated, rule_message = audit_workbook(path)
     if recalculated:
@@ -348,7 +348,7 @@ def _audit_workbook(path):
 
 def _what_it_is(path, spec):
     """'course_design workbook' or 'an answer key of assignment course-design (…)'."""
-    from crankbook.workbook_reader import defined_ranges, open_book, role_of
+    from crankbook.reading.workbook_reader import defined_ranges, open_book, role_of
     book = open_book(path)
     role, assignment = role_of(book, defined_ranges(book))
     if role == "key":
@@ -372,7 +372,7 @@ def _assign(args):
 
 def _export(args):
     import crankbook
-    from crankbook.torsion_export import write
+    from crankbook.writer.torsion_csv import write
     write(crankbook.read(args.workbook), args.output)
     print(f"wrote {args.output}/stations.csv and harmonics.csv")
     return 0
@@ -405,7 +405,7 @@ def _grade(args):
 
 
 def _presets(args):
-    from crankbook import params
+    from crankbook.spec import params
     names = params.preset_names()
     if not names:
         raise CrankbookError("no presets found: the installation is missing its templates")
@@ -416,7 +416,7 @@ def _presets(args):
 
 
 def _parameters(args):
-    from crankbook import params
+    from crankbook.spec import params
     spec, values, preset = params.load_preset(args.preset)
     if args.group is not None:
         values = params.apply_group(spec, values, preset, args.group)

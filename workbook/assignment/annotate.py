@@ -17,7 +17,7 @@ from openpyxl.styles import Alignment, Border, Font, PatternFill, Side
 from crankbook.assignment.results import (_item_summary, _points, reason_text, say, shown,
                                           student_notes, words)
 from crankbook.writer.layout import unit_text
-from crankbook.workbook_reader import parse_reference
+from crankbook.reading.workbook_reader import parse_reference
 
 FILLS = {"right": "C6EFCE", "partial": "FFEB9C", "wrong": "FFC7CE", "unreadable": "D9D2E9",
          "empty": "EDEDED"}

@@ -11,17 +11,21 @@ from concurrent.futures import ProcessPoolExecutor
 from functools import lru_cache
 from pathlib import Path
 
-from crankbook import __version__, params, resources
+from crankbook import __version__
+
+from crankbook.spec import params
+
+from crankbook.support import resources
 from crankbook.assignment import template as templates
 from crankbook.assignment.groups import fixed_values
 from crankbook.assignment.key import answer_rows, given_trace, key_results
 from crankbook.assignment.roster import read_roster
 from crankbook.assignment.student_book import write_student_workbook
 from crankbook.assignment.variants import draw_class, fingerprint
-from crankbook.csv_safety import csv_text
+from crankbook.support.csv_safety import csv_text
 from crankbook.assignment.results import words
-from crankbook.progress import steps, waiting
-from crankbook.workspace import check_directory, staged_directory
+from crankbook.support.progress import steps, waiting
+from crankbook.support.workspace import check_directory, staged_directory
 from crankbook.writer.build import write_workbook
 
 MANIFEST = "manifest.csv"

@@ -12,13 +12,13 @@ which", not a verdict on the angles.
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from crankbook import params
+from crankbook.spec import params
 from crankbook.assignment import template as templates
 from crankbook.assignment.results import reason_text, say, words
 from crankbook.assignment.student_book import TASK
 from crankbook.errors import CrankbookError
-from crankbook.workbook_reader import parse_reference
-from crankbook.xlsx_reader import Unreadable, XlsxBook
+from crankbook.reading.workbook_reader import parse_reference
+from crankbook.reading.xlsx_reader import Unreadable, XlsxBook
 
 LOST = ("not_a_number", "wrong_unit")          # cell reasons whose answer grading cannot use
 

@@ -23,7 +23,7 @@ from pathlib import Path
 import xlsxwriter
 
 from crankbook.assignment.results import WORKBOOK_OPTIONS, lms_text
-from crankbook.csv_safety import csv_text
+from crankbook.support.csv_safety import csv_text
 from crankbook.errors import CrankbookError
 from crankbook.writer.build import FIXED_TIME
 

@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 
-from crankbook import params
-from crankbook.evaluate import axis_sizes
+from crankbook.spec import params
+from crankbook.spec.evaluate import axis_sizes
 from crankbook.assignment import exports, integrity, rounds
 from crankbook.assignment.overrides import apply as apply_overrides, read_overrides
 from crankbook.assignment import template as templates
@@ -25,8 +25,8 @@ from crankbook.assignment.scoring import (answer_in, answer_number, pair_positio
                                           place_rows, score_item)
 from crankbook.assignment.submissions import discover, prepare, read, recalculate
 from crankbook.errors import AssignmentDirError, CrankbookError
-from crankbook.progress import steps
-from crankbook.workspace import check_directory, lock, staged_directory, sweep_temporary
+from crankbook.support.progress import steps
+from crankbook.support.workspace import check_directory, lock, staged_directory, sweep_temporary
 
 KEEP = ("latest", "best")
 

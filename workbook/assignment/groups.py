@@ -13,7 +13,9 @@ import io
 import tomllib
 from pathlib import Path
 
-from crankbook import params, resources
+from crankbook.spec import params
+
+from crankbook.support import resources
 from crankbook.assignment.roster import excel_text
 from crankbook.errors import RosterError, UnknownGroupError
 

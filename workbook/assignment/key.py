@@ -8,8 +8,8 @@ statement tells the student: a student who follows the statement meets the key.
 """
 import numpy as np
 
-from crankbook.api import results_for
-from crankbook.evaluate import build_grids, evaluate
+from crankbook.results import results_for
+from crankbook.spec.evaluate import build_grids, evaluate
 
 
 def given_trace(assignment, spec, values):

@@ -22,16 +22,16 @@ Student side (never a flag, a suspicion or another student's id):
   item's precision), ``hints`` (which cells are wrong and why, no expected values)
   or ``score-only``.
 
-Every CSV field is made safe for spreadsheets (crankbook.csv_safety).
+Every CSV field is made safe for spreadsheets (crankbook.support.csv_safety).
 """
 import math
 from pathlib import Path
 
 import xlsxwriter
 
-from crankbook import resources
+from crankbook.support import resources
 from crankbook.assignment import rounds
-from crankbook.csv_safety import csv_text
+from crankbook.support.csv_safety import csv_text
 from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.layout import unit_text
 from crankbook.writer.print_setup import landscape_page

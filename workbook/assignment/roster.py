@@ -16,7 +16,7 @@ import unicodedata
 from pathlib import Path
 
 from crankbook.errors import RosterError
-from crankbook.xlsx_reader import Unreadable, XlsxBook, sheet_rows
+from crankbook.reading.xlsx_reader import Unreadable, XlsxBook, sheet_rows
 
 ALIASES = {
     "student_id": ("student_id", "student id", "id", "student number", "学号", "学生编号",

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crankbook import units
+from crankbook.spec import units
 
 PLAIN = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 COMMA_DECIMAL = re.compile(r"[+-]?[0-9]+,[0-9]+\Z")

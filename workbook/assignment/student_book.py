@@ -7,8 +7,8 @@ import unicodedata
 from crankbook.writer.fast_sheet import FastWorkbook
 from xlsxwriter.utility import xl_rowcol_to_cell
 
-from crankbook.atomic import atomic_path
-from crankbook.formulas import quote_sheet
+from crankbook.support.atomic import atomic_path
+from crankbook.spec.formulas import quote_sheet
 from crankbook.writer.build import FIXED_TIME, PROPERTY_ASSIGNMENT, PROPERTY_ROLE, PROPERTY_TEMPLATE
 from crankbook.writer.layout import unit_text
 from crankbook.writer.print_setup import landscape_page

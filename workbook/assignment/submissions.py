@@ -1,7 +1,7 @@
 """Returned workbooks: found, read and recalculated one at a time.
 
 Every submission is untrusted.  Each is read by the bounded reader
-(crankbook.xlsx_reader) on its own; any failure — a refusal, a damaged part, or an
+(crankbook.reading.xlsx_reader) on its own; any failure — a refusal, a damaged part, or an
 error no one foresaw — makes that file ``unreadable`` with a reason in words and
 touches nothing else.  Files saved without values (formulas written by a script)
 are recalculated in LibreOffice, first together and, if that run fails or times
@@ -17,12 +17,12 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from crankbook import recalc
+from crankbook.reading import recalc
 from crankbook.errors import CrankbookError
-from crankbook.workbook_reader import parse_reference
-from crankbook.xlsx_reader import MAX_FILE, Unreadable, XlsxBook
-from crankbook.progress import waiting
-from crankbook.workspace import temporary_directory
+from crankbook.reading.workbook_reader import parse_reference
+from crankbook.reading.xlsx_reader import MAX_FILE, Unreadable, XlsxBook
+from crankbook.support.progress import waiting
+from crankbook.support.workspace import temporary_directory
 
 SUFFIXES = (".xlsx", ".xlsm", ".xls", ".xltx", ".xltm")
 MAX_FILES = 20_000

@@ -5,7 +5,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from crankbook import resources, units
+from crankbook.support import resources
+
+from crankbook.spec import units
 from crankbook.errors import SpecError, UnknownPresetError
 
 ASSIGNMENTS = "assignments"

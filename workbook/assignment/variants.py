@@ -10,8 +10,10 @@ import hashlib
 
 import numpy as np
 
-from crankbook import evaluate, params
-from crankbook.arithmetic import ArithmeticError_, evaluate as arithmetic
+from crankbook.spec import evaluate
+
+from crankbook.spec import params
+from crankbook.support.arithmetic import ArithmeticError_, evaluate as arithmetic
 from crankbook.errors import CrankbookError, SpecError
 
 MAX_ATTEMPTS = 500

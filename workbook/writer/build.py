@@ -15,7 +15,7 @@ import xlsxwriter.workbook
 xlsxwriter.workbook.ZipFile = partial(ZipFile, compresslevel=1)
 
 from crankbook import __version__
-from crankbook.atomic import atomic_path
+from crankbook.support.atomic import atomic_path
 from crankbook.errors import BuildOptionError
 from crankbook.writer.fast_sheet import FastWorkbook
 from crankbook.writer.charts import write_charts_sheet

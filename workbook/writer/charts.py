@@ -7,7 +7,7 @@ import numpy as np
 
 from xlsxwriter.utility import xl_range_abs, xl_rowcol_to_cell
 
-from crankbook.formulas import quote_sheet
+from crankbook.spec.formulas import quote_sheet
 from crankbook.writer.layout import FIRST_ROW, label, unit_text
 
 COLOURS = ["#1F77B4", "#D62728", "#2CA02C", "#FF7F0E", "#9467BD", "#8C564B", "#E377C2",

@@ -21,7 +21,7 @@ from xlsxwriter import Workbook
 from xlsxwriter.chart import Chart
 from xlsxwriter.worksheet import Worksheet
 
-from crankbook.formulas import INDEX, PREV, ROW
+from crankbook.spec.formulas import INDEX, PREV, ROW
 
 
 _COLUMN_XML = {}          # (template, place, style, …) -> the column's cell XML around values

@@ -5,8 +5,8 @@ to any key; each sheet writer then fills the places it is given.
 """
 from dataclasses import dataclass, field
 
-from crankbook.formulas import Locator, Place
-from crankbook.spec import GUARD
+from crankbook.spec.formulas import Locator, Place
+from crankbook.spec.model import GUARD
 
 FIRST_ROW = 5            # 0-based row of the first grid point / item on series and items sheets
 SCALAR_FIRST_ROW = 4     # first value row of a scalars sheet

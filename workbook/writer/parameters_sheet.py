@@ -2,7 +2,7 @@
 input checks, and a status cell that says in words what is wrong."""
 from xlsxwriter.utility import xl_rowcol_to_cell
 
-from crankbook.formulas import number
+from crankbook.spec.formulas import number
 from crankbook.writer.layout import PARAMETER_TABLE_ROW, label, unit_text
 from crankbook.writer.print_setup import landscape_page
 from crankbook.writer.scalar_sheet import write_formula_cell

@@ -11,7 +11,7 @@ import math
 
 from xlsxwriter.utility import xl_rowcol_to_cell
 
-from crankbook.formulas import quote_sheet
+from crankbook.spec.formulas import quote_sheet
 from crankbook.writer.layout import FIRST_ROW, FIXED_SHEETS, label, unit_text
 from crankbook.writer.print_setup import A4
 

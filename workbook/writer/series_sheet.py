@@ -3,7 +3,7 @@ per-item series), input tables and the sheet's charts."""
 import math
 
 
-from crankbook.formulas import ROW, quote_sheet
+from crankbook.spec.formulas import ROW, quote_sheet
 from crankbook.writer.charts import add_chart, chart_column_width
 from crankbook.writer.fast_sheet import FastWorksheet
 from crankbook.writer.layout import FIRST_ROW, label, unit_text

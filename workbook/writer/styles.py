@@ -1,7 +1,7 @@
 """Cell formats shared by every sheet writer."""
 import re
 
-from crankbook import units
+from crankbook.spec import units
 
 FONT = "Arial"          # Arial falls back to a CJK font for Chinese in Excel and LibreOffice
 

@@ -3,7 +3,7 @@
 A template is Excel formula text with placeholders in braces (templates/README.md):
 
     {key}               a parameter, constant, quantity (its meaning depends on where
-                        the formula is: see crankbook.formulas)
+                        the formula is: see crankbook.spec.formulas)
     {key:head}          a part of a series: head, tail, prev, last, all, items
     {key:at(EXPR)}      a periodic series at the grid angle EXPR
     {key:item(EXPR)}    item EXPR (1-based) of a per-item quantity

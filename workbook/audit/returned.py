@@ -4,7 +4,7 @@ q_ cell whose stored value or formula no longer agrees, with its address.
 The values are read as saved (Excel, LibreOffice, Gnumeric and WPS store them); a
 formula replaced by a constant, an error value (#REF!, #NAME?, …), a cell saved
 without a value, or a name whose range no longer has the template's shape is
-reported too.  Agreement is crankbook.compare's one rule, as in verify.
+reported too.  Agreement is crankbook.reading.compare's one rule, as in verify.
 """
 import math
 from dataclasses import dataclass
@@ -12,11 +12,11 @@ from dataclasses import dataclass
 import numpy as np
 from openpyxl.utils.cell import get_column_letter
 
-from crankbook import recalc
-from crankbook.compare import allowances
-from crankbook.verification import expected_values
-from crankbook.workbook_reader import Range, cells, expected_shape, formulas, load_named
-from crankbook.workspace import temporary_directory
+from crankbook.reading import recalc
+from crankbook.reading.compare import allowances
+from crankbook.reading.verification import expected_values
+from crankbook.reading.workbook_reader import Range, cells, expected_shape, formulas, load_named
+from crankbook.support.workspace import temporary_directory
 
 
 @dataclass
@@ -123,7 +123,7 @@ def _audit(original, calculated, recalculated):
 
 
 def _broken_rule(spec, values, tables, grids):
-    from crankbook import params
+    from crankbook.spec import params
     from crankbook.errors import CrankbookError
     try:
         params.validate(spec, dict(values), tables=tables, grids=grids)
@@ -136,7 +136,7 @@ def _unchecked(spec, values, tables, grids):
     """The numpy results of inputs that break a rule, quantity by quantity, where they
     can be computed at all (NaN elsewhere): what a cell that still shows a value
     must agree with."""
-    from crankbook.evaluate import evaluate
+    from crankbook.spec.evaluate import evaluate
     try:
         with np.errstate(all="ignore"):
             return dict(evaluate(spec, values, tables, grids))

@@ -53,7 +53,7 @@ import numpy as np
 
 from crankbook.calc import (cam, compressor, crankshaft, cycle, forces, gears, kinematics,
                             mechanism, multicylinder, optimization)
-from crankbook.toml_files import names_in, read_named
+from crankbook.support.toml_files import names_in, read_named
 
 CLAIMS = "claims"
 INPUT = re.compile(r"\{([A-Za-z_][A-Za-z_0-9]*)\}")      # {name} of a claim's input
@@ -81,7 +81,7 @@ RULE = "a rule: the printed value lies inside the rule the document quotes, or i
 
 @lru_cache(maxsize=None)
 def _computed(preset, overrides):
-    from crankbook.api import compute
+    from crankbook.results import compute
     return compute(preset, **dict(overrides))
 
 

@@ -9,11 +9,11 @@ import re
 
 import numpy as np
 
-from crankbook import resources
+from crankbook.support import resources
 from crankbook.errors import (GeometryError, LayoutError, ParameterValueError, SpecError,
                               UnknownGroupError, UnknownParameterError, UnknownPresetError)
-from crankbook.evaluate import axis_sizes, evaluate
-from crankbook.spec_loader import load as load_spec
+from crankbook.spec.evaluate import axis_sizes, evaluate
+from crankbook.spec.loader import load as load_spec
 
 PRESETS = "presets"
 GROUPS = "groups"

@@ -1,6 +1,6 @@
 """Write files whole or not at all: into a temporary file beside the target, then rename.
 
-The temporary name carries the process id (crankbook.workspace), so a run that was
+The temporary name carries the process id (crankbook.support.workspace), so a run that was
 killed half-way leaves nothing the next run does not remove.
 """
 import os
@@ -10,7 +10,7 @@ from pathlib import Path
 from xlsxwriter.exceptions import FileCreateError
 
 from crankbook.errors import OutputPathError
-from crankbook.workspace import lock, sweep, temporary_name
+from crankbook.support.workspace import lock, sweep, temporary_name
 
 
 def _cannot_write(path, error):

@@ -7,11 +7,13 @@ placed member.  Every mistake raises SpecError naming the file and the key.
 """
 from functools import lru_cache
 
-from crankbook import placeholders, resources
+from crankbook.spec import placeholders
+
+from crankbook.support import resources
 from crankbook.errors import SpecError, UnknownPresetError
-from crankbook.spec import (EXTREME_TOLERANCE, Axis, Chart, Constant, InputColumn, InputTable,
+from crankbook.spec.model import (EXTREME_TOLERANCE, Axis, Chart, Constant, InputColumn, InputTable,
                             Parameter, Quantity, Sheet, WorkbookSpec)
-from crankbook.spec_check import check
+from crankbook.spec.check import check
 
 LIST_SECTIONS = ("parameter", "axis", "constant", "input_table", "rule", "rulebook", "scalar",
                  "grid", "sheet", "columnset", "result", "use")
@@ -220,7 +222,7 @@ def _resolve_args(entry):
     rename = entry.pop("_rename", None)
     if rename is None or not entry.get("calc"):
         return entry
-    from crankbook.spec import calc_function
+    from crankbook.spec.model import calc_function
     import inspect
     try:
         names = inspect.signature(calc_function(entry["calc"])).parameters

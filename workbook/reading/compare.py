@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crankbook import units
-from crankbook.evaluate import Evaluator
+from crankbook.spec import units
+from crankbook.spec.evaluate import Evaluator
 
 RELATIVE = 1e-9
 ROUNDING = 1e-14

@@ -6,7 +6,7 @@ The same table serves the evaluator (values in and out of SI), the formula compi
 import math
 from functools import lru_cache
 
-from crankbook import resources
+from crankbook.support import resources
 
 
 def _table():

@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from crankbook.errors import PressureFileError
-from crankbook.params import NUMBER
-from crankbook.xlsx_reader import Unreadable, XlsxBook, sheet_rows
+from crankbook.spec.params import NUMBER
+from crankbook.reading.xlsx_reader import Unreadable, XlsxBook, sheet_rows
 
 MAX_GAP = 30.0             # deg: a coarser trace does not describe the cycle
 MAX_PRESSURE = 50.0        # MPa: beyond any engine; such numbers are kPa or bar

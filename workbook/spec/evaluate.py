@@ -12,9 +12,9 @@ import math
 
 import numpy as np
 
-from crankbook import units
+from crankbook.spec import units
 from crankbook.errors import BuildOptionError, LayoutError, SpecError
-from crankbook.spec import calc_function
+from crankbook.spec.model import calc_function
 
 MIN_STEP = 0.1           # deg: a V8 at 0.1° builds in 1.3 GB; 0.01° needed 3.7 GB
 MAX_ROWS = 100_000       # rows of one grid: beyond that a workbook is no longer usable

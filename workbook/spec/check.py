@@ -7,9 +7,11 @@ raise SpecError when the template is loaded, never later in a user's build.
 import inspect
 import re
 
-from crankbook import placeholders, units
+from crankbook.spec import placeholders
+
+from crankbook.spec import units
 from crankbook.errors import SpecError
-from crankbook.placeholders import Ref, Special, Sum, TemplateSyntaxError
+from crankbook.spec.placeholders import Ref, Special, Sum, TemplateSyntaxError
 
 # Functions newer than Excel 2010 or volatile: a workbook must open in Excel 2010,
 # LibreOffice, Gnumeric and WPS and recompute the same everywhere.

@@ -16,9 +16,9 @@ import math
 
 import numpy as np
 
-from crankbook.csv_safety import csv_text
+from crankbook.support.csv_safety import csv_text
 from crankbook.errors import BuildOptionError
-from crankbook.workspace import staged_directory
+from crankbook.support.workspace import staged_directory
 
 
 def rows(results):

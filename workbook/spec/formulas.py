@@ -1,7 +1,7 @@
 """Compile formula templates into Excel formulas for a given layout.
 
 :class:`Locator` knows where every key lives in the workbook and turns a parsed
-template (crankbook.placeholders) into Excel text for one context: a sheet, a grid
+template (crankbook.spec.placeholders) into Excel text for one context: a sheet, a grid
 row (series formulas carry markers for the row, filled per cell by :func:`fill`),
 an item (per-item quantities) and the indices of enclosing {sum:…} placeholders.
 What each placeholder becomes is documented in templates/README.md.
@@ -11,10 +11,10 @@ from dataclasses import dataclass, field, replace
 
 from xlsxwriter.utility import xl_col_to_name, xl_rowcol_to_cell
 
-from crankbook import units
-from crankbook.arithmetic import integer
-from crankbook.placeholders import Special, Sum
-from crankbook.spec import GUARD
+from crankbook.spec import units
+from crankbook.support.arithmetic import integer
+from crankbook.spec.placeholders import Special, Sum
+from crankbook.spec.model import GUARD
 
 ROW = "\x00"            # the 1-based row number of the cell
 PREV = "\x01"           # the 1-based row number of the row above

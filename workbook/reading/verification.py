@@ -1,19 +1,21 @@
 """Check a workbook's formulas in a real spreadsheet engine against numpy.
 
 The engine recalculates the file (LibreOffice with recalculation forced, or
-Gnumeric); every q_ name read back is compared, by crankbook.compare's one rule,
+Gnumeric); every q_ name read back is compared, by crankbook.reading.compare's one rule,
 with the calc functions evaluated on the workbook's own inputs.
 """
 
 from pathlib import Path
 
-from crankbook import params, recalc
-from crankbook.compare import compare, noise_floors
+from crankbook.spec import params
+
+from crankbook.reading import recalc
+from crankbook.reading.compare import compare, noise_floors
 from crankbook.errors import CrankbookError, WorkbookReadError
-from crankbook.evaluate import evaluate
-from crankbook.workbook_reader import load_named, open_book, defined_ranges, read_results
-from crankbook.progress import steps, waiting
-from crankbook.workspace import temporary_directory
+from crankbook.spec.evaluate import evaluate
+from crankbook.reading.workbook_reader import load_named, open_book, defined_ranges, read_results
+from crankbook.support.progress import steps, waiting
+from crankbook.support.workspace import temporary_directory
 
 
 def expected_values(spec, values, tables, grids):
@@ -96,6 +98,6 @@ def _compared(path, named, cached, converted, engine):
 
 
 def _single(book, ranges, name):
-    from crankbook.workbook_reader import cells
+    from crankbook.reading.workbook_reader import cells
     found = ranges.get(name)
     return cells(book, found)[0] if found is not None else None

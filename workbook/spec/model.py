@@ -1,7 +1,7 @@
 """The model of a workbook specification: what templates/<name>.toml says, as objects.
 
-templates/README.md documents the language; crankbook.spec_loader reads the TOML
-into these objects and crankbook.spec_check refuses what cannot be meant.  Inputs
+templates/README.md documents the language; crankbook.spec.loader reads the TOML
+into these objects and crankbook.spec.check refuses what cannot be meant.  Inputs
 are named p_<key>, every computed quantity q_<key>.
 """
 import importlib
@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from functools import cached_property, lru_cache
 from types import MappingProxyType
 
-from crankbook import placeholders
+from crankbook.spec import placeholders
 
 # Tolerance of the "crank angle at the maximum/minimum" cells: the first grid angle
 # where the series comes within this fraction of its peak |value| of its extreme.

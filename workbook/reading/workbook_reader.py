@@ -11,12 +11,10 @@ from pathlib import Path
 
 import numpy as np
 
-from crankbook import recalc
 from crankbook.errors import CrankbookError, WorkbookReadError
-from crankbook.evaluate import MAX_ROWS
-from crankbook.xlsx_reader import Unreadable, XlsxBook
-from crankbook.spec_loader import load as load_spec, template_names
-from crankbook.workspace import temporary_directory
+from crankbook.spec.evaluate import MAX_ROWS
+from crankbook.reading.xlsx_reader import Unreadable, XlsxBook
+from crankbook.spec.loader import load as load_spec, template_names
 from crankbook.writer.build import (PROPERTY_ASSIGNMENT, PROPERTY_PRESET, PROPERTY_ROLE,
                                     PROPERTY_STEPS, PROPERTY_TEMPLATE)
 
@@ -278,7 +276,7 @@ def role_of(book, ranges):
 
 def load_named(path):
     """(book, spec, template, ranges, values, tables, grids, sizes, grid rows)."""
-    from crankbook.evaluate import axis_sizes
+    from crankbook.spec.evaluate import axis_sizes
     book = open_book(path)
     ranges = defined_ranges(book)
     role, assignment = role_of(book, ranges)
@@ -298,28 +296,10 @@ def load_named(path):
         spec, ranges, grids)
 
 
-def read_workbook(path, recalculate=False):
-    """Results holding the workbook's own values (see crankbook.read)."""
-    return read_workbooks([path], recalculate)[0]
-
-
-def read_workbooks(paths, recalculate=False, progress=None):
-    """Results of each workbook; with ``recalculate``, all in one LibreOffice start."""
-    from crankbook.api import Results
-    from crankbook.compare import as_array
-    from crankbook.progress import steps, waiting
-    if not recalculate:
-        return [_results_of(p, p, Results, as_array)
-                for p in steps(paths, "read", progress=progress)]
-    with temporary_directory("read") as tmp:
-        with waiting(f"read: recalculating {len(paths)} workbook(s) in LibreOffice", progress):
-            from crankbook.verification import _distinct
-            converted = recalc.convert(_distinct(paths, tmp), tmp)
-        return [_results_of(c, p, Results, as_array)
-                for p, c in steps(list(zip(paths, converted)), "read", progress=progress)]
-
-
-def _results_of(path, shown, Results, as_array):
+def stored_results(path, shown):
+    """The fields of a crankbook.results.Results holding the workbook's own values
+    (``shown``: the path its messages name, when ``path`` is a recalculated copy)."""
+    from crankbook.reading.compare import as_array
     book, spec, template, ranges, values, tables, grids, sizes, grid_rows = load_named(path)
     stored = read_results(book, spec, ranges, shown, sizes, grid_rows)
     results = {}
@@ -340,5 +320,5 @@ def _results_of(path, shown, Results, as_array):
     steps = json.loads(_property(book, PROPERTY_STEPS, "{}") or "{}")
     preset = {"name": _property(book, PROPERTY_PRESET, "?"), "zh": "", "en": "",
               "template": template}
-    return Results(spec=spec, template=template, preset=preset, values=values, tables=tables,
-                   steps=steps, results=results, axis_sizes=sizes)
+    return dict(spec=spec, template=template, preset=preset, values=values, tables=tables,
+                steps=steps, results=results, axis_sizes=sizes)

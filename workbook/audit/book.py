@@ -13,8 +13,8 @@ from pathlib import Path
 import xlsxwriter
 from xlsxwriter.utility import xl_col_to_name
 
-from crankbook.atomic import atomic_path
-from crankbook.claims import INPUT, STATUS_OF_KIND, VERDICTS, coverage, shown
+from crankbook.support.atomic import atomic_path
+from crankbook.audit.claims import INPUT, STATUS_OF_KIND, VERDICTS, coverage, shown
 from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.styles import Styles
 

@@ -3,7 +3,7 @@
 A name is a name from the list, never a path: anything else is refused before a
 file is opened.
 """
-from crankbook import resources
+from crankbook.support import resources
 from crankbook.errors import UnknownPresetError
 
 

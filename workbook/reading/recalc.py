@@ -12,7 +12,7 @@ import subprocess
 from pathlib import Path
 
 from crankbook.errors import RecalculationError
-from crankbook.workspace import record_engine, sweep_temporary, temporary_directory
+from crankbook.support.workspace import record_engine, sweep_temporary, temporary_directory
 
 PROFILE_SETTINGS = """<?xml version="1.0" encoding="UTF-8"?>
 <oor:items xmlns:oor="http://openoffice.org/2001/registry"

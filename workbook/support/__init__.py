@@ -1,0 +1,3 @@
+"""Small helpers every layer may use (they import nothing of crankbook but its errors):
+atomic file writes, temporary workspaces and locks, CSV-injection safety, package
+data, TOML reading, exact decimal arithmetic, progress on stderr."""
