@@ -147,7 +147,8 @@ def test_verify_accepts_a_mean_torque_that_is_zero_up_to_rounding(checked, tmp_p
 
 @pytest.mark.libreoffice
 def test_the_readme_example_runs_as_printed(tmp_path, soffice):
-    text = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+    text = (Path(__file__).resolve().parent.parent / "docs" / "engineer.md").read_text(
+        encoding="utf-8")
     start = text.index("```python\nimport numpy as np")
     code = text[start + len("```python\n"):text.index("```", start + 10)]
     done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,

@@ -1,5 +1,5 @@
 """Charts and pages as an engineer prints them: every preset in zh and en, converted to
-PDF by LibreOffice.  No "###", the page counts the README states, no plotted point
+PDF by LibreOffice.  No "###", the page counts docs/engineer.md states, no plotted point
 outside an explicit axis, equal-axis charts at one scale (measured on the rendered
 page from the tick labels), their live frame following an edit."""
 import re
@@ -54,15 +54,15 @@ def test_no_hashes_on_any_page(rendered):
 
 
 def readme_page_counts():
-    """{preset: pages} from the README's table."""
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    """{preset: pages} from the engineer's guide's table."""
+    text = (ROOT / "docs" / "engineer.md").read_text(encoding="utf-8")
     block = text[text.index("<!-- page counts -->"):text.index("<!-- /page counts -->")]
     return {m.group(1): int(m.group(2))
             for m in re.finditer(r"^\| `([\w-]+)` \| (\d+) \|", block, flags=re.M)}
 
 
 def test_page_counts_are_the_readmes(rendered):
-    """The count of every preset is the README's, in Chinese and (one preset of each
+    """The count of every preset is the guide's, in Chinese and (one preset of each
     template) in English (printed by LibreOffice with its own fonts; Excel paginates
     alike within a page or two)."""
     stated = readme_page_counts()
