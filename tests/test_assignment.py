@@ -961,6 +961,14 @@ def test_part_of_the_pack_and_item_statistics(pack, tmp_path):
     assert stats["crank_radius"]["discrimination"] == 0.0
     report = openpyxl.load_workbook(tmp_path / "week1" / "class-report.xlsx")
     assert "题目分析" in report.sheetnames
+    # the chart beside the table stacks the table's slips by kind, one bar an item
+    import zipfile
+    with zipfile.ZipFile(tmp_path / "week1" / "class-report.xlsx") as z:
+        charts = [z.read(n).decode() for n in z.namelist() if n.startswith("xl/charts/chart")]
+    slips = [c for c in charts if "各题的失误类型" in c]
+    assert len(slips) == 1 and slips[0].count("<c:ser>") == 5          # one series a kind
+    for column in "DEFGH":                                 # the three items of --items
+        assert f"题目分析!${column}$4:${column}$6<" in slips[0], column
 
 
 def test_groups_share_the_guides_table_and_keep_their_own_valve_trains(tmp_path):

@@ -372,7 +372,7 @@ def write_class_report(path, assignment, lang, grades):
     chart.set_title({"name": w["chart_items"]})
     chart.set_x_axis({"name": w["axis_fraction"], "min": 0, "max": 1, "num_format": "0%",
                       "major_unit": 0.25})
-    chart.set_y_axis({"reverse": True})
+    chart.set_y_axis({"reverse": True, "crossing": "max"})   # values stay at the bottom
     chart.set_legend({"position": "bottom"})
     chart.set_size({"width": 720, "height": max(420, 28 * len(assignment.items) + 120)})
     ws.insert_chart(2, 6, chart)
@@ -462,6 +462,25 @@ def _class_statistics(book, w, assignment, grades, styles):
                 ws.write_number(row, col, round(value, 2), styles.number("-", "0.00"))
 
 
+def _slips_chart(book, ws, w, last, col):
+    """Beside the table, a stacked bar per item of its slips by kind (the items sheet
+    already charts the share right): where the class lost points, not only how many."""
+    chart = book.add_chart({"type": "bar", "subtype": "stacked"})
+    colours = ("#F4B183", "#FFD966", "#A9D18E", "#B4A7D6", "#BFBFBF")
+    for offset, (kind, colour) in enumerate(zip(SLIP_KINDS, colours)):
+        chart.add_series({"name": w[f"col_{kind}"],
+                          "categories": [ws.get_name(), 3, 0, last, 0],
+                          "values": [ws.get_name(), 3, 3 + offset, last, 3 + offset],
+                          "fill": {"color": colour}, "gap": 60})
+    chart.set_title({"name": w["analysis_chart_title"], "name_font": {"size": 12}})
+    chart.set_x_axis({"name": w["analysis_chart_axis"], "min": 0,
+                      "major_gridlines": {"visible": True}})
+    chart.set_y_axis({"reverse": True, "crossing": "max"})   # the table's order, top down
+    chart.set_legend({"position": "bottom"})
+    chart.set_size({"width": 620, "height": max(340, 22 * (last - 2) + 160)})
+    ws.insert_chart(2, col, chart)
+
+
 SLIP_KINDS = ("unit_slip", "sign_slip", "consequential", "not_a_number", "no_answer")
 
 
@@ -514,6 +533,8 @@ def _item_analysis(book, w, assignment, lang, graded, styles):
     ws.set_column(0, 0, _width([e["item"].label(lang) for e in stats], 20))
     ws.set_column(1, len(header) - 1, 12)
     ws.write(last + 2, 0, w["analysis_note"], styles.text)
+    if stats:
+        _slips_chart(book, ws, w, last, len(header) + 1)
     # positions × quantities: the share of students right at each position
     position_items = [s for s in assignment.sheets if s.rows == "positions"]
     if assignment.positions is None or not position_items or not graded:
