@@ -11,6 +11,8 @@ References
 ----------
 Thesis 000 §4.4.1 (main dimensions), §4.6 (static strength), seed 002 §3.3 (eq. 3.3).
 """
+from typing import NamedTuple
+
 import numpy as np
 
 
@@ -71,20 +73,20 @@ def _journal_share(values, throw):
     return np.asarray(values, dtype=float) @ share
 
 
-def journal_load_x(cylinder_tangential_force, cylinder_radial_force, cylinder_rotating_force,
-                   crank_angle, firing_angle, bank_angle, throw):
-    """Horizontal load each main journal puts on its bearing (N + 1, T + 1) [N]."""
-    x, _ = _throw_loads(cylinder_tangential_force, cylinder_radial_force,
-                        cylinder_rotating_force, crank_angle, firing_angle, bank_angle)
-    return _journal_share(x, throw)
+class JournalLoads(NamedTuple):
+    """The load each main journal puts on its bearing: horizontal and vertical
+    (N + 1, T + 1) [N]."""
+    x: np.ndarray
+    y: np.ndarray
 
 
-def journal_load_y(cylinder_tangential_force, cylinder_radial_force, cylinder_rotating_force,
-                   crank_angle, firing_angle, bank_angle, throw):
-    """Vertical load each main journal puts on its bearing (N + 1, T + 1) [N]."""
-    _, y = _throw_loads(cylinder_tangential_force, cylinder_radial_force,
+def journal_loads(cylinder_tangential_force, cylinder_radial_force, cylinder_rotating_force,
+                  crank_angle, firing_angle, bank_angle, throw):
+    """Each main journal's bearing load, a :class:`JournalLoads`: half of each throw's
+    load on the journal in front of it and half on the one behind."""
+    x, y = _throw_loads(cylinder_tangential_force, cylinder_radial_force,
                         cylinder_rotating_force, crank_angle, firing_angle, bank_angle)
-    return _journal_share(y, throw)
+    return JournalLoads(_journal_share(x, throw), _journal_share(y, throw))
 
 
 # ---------------------------------------------------------------- dimensions

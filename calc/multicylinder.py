@@ -19,6 +19,8 @@ References
 Thesis 000 §4.4.1 (cylinder pitch), §4.8.3; seed 004 (equivalent ring mass, compound
 pendulum); any engine-dynamics text for the balance of multi-cylinder engines.
 """
+from typing import NamedTuple
+
 import numpy as np
 
 SHAKING_ORDERS = (1.0, 2.0, 4.0, 6.0)
@@ -295,44 +297,26 @@ def _cylinder_forces(reciprocating_mass, cylinder_acceleration, bank_angle,
     return fx, fy
 
 
-def _shaking(component, reciprocating_mass, cylinder_acceleration, bank_angle,
-             rotating_force, crank_angle, firing_angle, arm=1.0):
-    """Σ over cylinders of the x (0) or y (1) force, each times its arm [N or N·m]."""
-    forces = _cylinder_forces(reciprocating_mass, cylinder_acceleration, bank_angle,
+class Shaking(NamedTuple):
+    """The engine's free forces [N] and moments about z_c [N·m] on the block."""
+    force_x: np.ndarray
+    force_y: np.ndarray
+    moment_pitch: np.ndarray
+    moment_yaw: np.ndarray
+
+
+def shaking(reciprocating_mass, cylinder_acceleration, bank_angle, rotating_force,
+            crank_angle, firing_angle, axial_position, axial_centre):
+    """Free forces and moments, a :class:`Shaking` of (N + 1,) series:
+
+    F_x = Σ m_j·a_i·sinδ_i + F_rot,i·sinθ_i,  F_y = Σ m_j·a_i·cosδ_i + F_rot,i·cosθ_i,
+    pitch = Σ (z_i − z_c)·F_y,i,  yaw = Σ (z_i − z_c)·F_x,i.
+    """
+    fx, fy = _cylinder_forces(reciprocating_mass, cylinder_acceleration, bank_angle,
                               rotating_force, crank_angle, firing_angle)
-    return (forces[component] * arm).sum(axis=1)
-
-
-def shaking_force_x(reciprocating_mass, cylinder_acceleration, bank_angle, rotating_force,
-                    crank_angle, firing_angle):
-    """Free force along x: Σ m_j·a_i·sinδ_i + F_rot,i·sinθ_i [N]."""
-    return _shaking(0, reciprocating_mass, cylinder_acceleration, bank_angle, rotating_force,
-                    crank_angle, firing_angle)
-
-
-def shaking_force_y(reciprocating_mass, cylinder_acceleration, bank_angle, rotating_force,
-                    crank_angle, firing_angle):
-    """Free force along y (up): Σ m_j·a_i·cosδ_i + F_rot,i·cosθ_i [N]."""
-    return _shaking(1, reciprocating_mass, cylinder_acceleration, bank_angle, rotating_force,
-                    crank_angle, firing_angle)
-
-
-def shaking_moment_pitch(reciprocating_mass, cylinder_acceleration, bank_angle,
-                         rotating_force, crank_angle, firing_angle, axial_position,
-                         axial_centre):
-    """Pitching moment Σ (z_i − z_c)·F_y,i [N·m]."""
     arm = np.asarray(axial_position, dtype=float) - axial_centre
-    return _shaking(1, reciprocating_mass, cylinder_acceleration, bank_angle, rotating_force,
-                    crank_angle, firing_angle, arm)
-
-
-def shaking_moment_yaw(reciprocating_mass, cylinder_acceleration, bank_angle,
-                       rotating_force, crank_angle, firing_angle, axial_position,
-                       axial_centre):
-    """Yawing moment Σ (z_i − z_c)·F_x,i [N·m]."""
-    arm = np.asarray(axial_position, dtype=float) - axial_centre
-    return _shaking(0, reciprocating_mass, cylinder_acceleration, bank_angle, rotating_force,
-                    crank_angle, firing_angle, arm)
+    return Shaking(fx.sum(axis=1), fy.sum(axis=1), (fy * arm).sum(axis=1),
+                   (fx * arm).sum(axis=1))
 
 
 def classic_order_amplitude(order, reciprocating_mass, crank_radius, angular_velocity,
