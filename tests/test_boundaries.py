@@ -36,11 +36,26 @@ def boundary_values(parameter):
 PRESETS = params.preset_names() if hasattr(params, "preset_names") else \
     ["thesis", "inline-4", "v8-crossplane", "course-design", "offset-optimization",
      "compressor", "boxer-4", "inline-3", "inline-6", "v-twin-90", "v6-60"]
-CASES = [(preset, p.key, value)
-         for preset in PRESETS
-         for p in params.load_preset(preset)[0].parameters
-         if p.kind == "number" and not p.axis
-         for value in boundary_values(p)]
+
+
+def _cases():
+    """(preset, key, value): every boundary value of every template's parameters, each
+    on one of the presets of its template in turn — the bounds are the template's, so
+    every value is tried once and every preset (layout) gets its share."""
+    templates = {}
+    for preset in PRESETS:
+        templates.setdefault(params.load_preset(preset)[0].key, []).append(preset)
+    out = []
+    for presets in templates.values():
+        spec = params.load_preset(presets[0])[0]
+        values = [(p.key, v) for p in spec.parameters if p.kind == "number" and not p.axis
+                  for v in boundary_values(p)]
+        out += [(presets[i % len(presets)], key, value)
+                for i, (key, value) in enumerate(values)]
+    return out
+
+
+CASES = _cases()
 
 
 def _not_finite(result):
