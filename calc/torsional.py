@@ -238,9 +238,11 @@ def section_count(throw):
     return station_count(throw) - 1
 
 
-def frequency_grid(holzer_step):
-    """The trial frequencies f = step·(1 … HOLZER_ROWS) [Hz]."""
-    return holzer_step * np.arange(1, HOLZER_ROWS + 1, dtype=float)
+def frequency_grid(holzer_step, holzer_max_frequency):
+    """The trial frequencies f = step·(1 … HOLZER_ROWS) up to the highest [Hz]; NaN
+    (a blank row) beyond it."""
+    f = holzer_step * np.arange(1, HOLZER_ROWS + 1, dtype=float)
+    return np.where(f <= holzer_max_frequency, f, np.nan)
 
 
 def station_inertias(pulley_inertia, ring_mass, crank_radius, web_inertia, flywheel_inertia,
@@ -272,9 +274,11 @@ def section_stiffnesses(shear_modulus, main_journal_diameter, main_journal_bore,
 
 def holzer_table(holzer_frequency, station_inertia, section_stiffness):
     """Holzer's table at each trial frequency [Hz], θ_1 = 1: a :class:`HolzerTable` of
-    (rows, stations) arrays."""
-    return holzer(2 * np.pi * np.ravel(holzer_frequency).astype(float), station_inertia,
-                  section_stiffness)
+    (rows, stations) arrays; a blank (NaN) trial frequency is a blank row."""
+    f = np.ravel(holzer_frequency).astype(float)
+    amplitude, torque = holzer(2 * np.pi * f, station_inertia, section_stiffness)
+    amplitude[np.isnan(f)] = np.nan
+    return HolzerTable(amplitude, torque)
 
 
 def holzer_residual(holzer_torque):

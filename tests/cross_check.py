@@ -70,7 +70,9 @@ WORKBOOKS = {
                                           "gear_module": 4.0, "intake_opens": -12.0}},
     # multi-cylinder layouts (issue 11) ------------------------------------------
     "inline4": {"args": ["--preset", "inline-4", "--step", "4"]},
-    "inline6_step3": {"args": ["--preset", "inline-6", "--step", "3"]},
+    # … with a Holzer grid that ends at 600 Hz: its last 200 rows are blank
+    "inline6_step3": {"args": ["--preset", "inline-6", "--step", "3", "--set",
+                               "holzer_max_frequency=600"]},
     "v8_counterweights": {"args": ["--preset", "v8-crossplane", "--set", "counterweights=1",
                                    "--set", "balance_fraction=0.5", "--step", "3"]},
     "vtwin_series_step2_en": {"args": ["--preset", "v-twin-90", "--set", "exact_kinematics=0",

@@ -122,7 +122,8 @@ def test_every_engine_workbooks_holzer_frequencies_are_its_eigenfrequencies(pres
     assert J.size == r["station_count"] == k.size + 1
     eigen = torsional.natural_frequencies(J, k)
     found = np.asarray(r["natural_frequency"], dtype=float)
-    top = r.parameters["holzer_step"] * torsional.HOLZER_ROWS
+    top = min(r.parameters["holzer_step"] * torsional.HOLZER_ROWS,
+              r.parameters["holzer_max_frequency"])
     within = eigen[eigen < top - r.parameters["holzer_step"]]
     assert within.size >= 1, (preset, eigen[:2])           # the first mode is on the grid
     # linear interpolation between grid points: within 0.5 % of the eigenvalue
@@ -257,3 +258,16 @@ def test_typed_values_must_fill_the_stations():
     assert typed["station_inertia"][-1] == 2.0 and typed["section_stiffness"][0] == 1e5
     with pytest.raises(LayoutError, match="station_inertia_typed has 2 values"):
         crankbook.compute("thesis", station_inertia_typed=[0, 0])
+
+
+def test_the_highest_trial_frequency_ends_the_grid():
+    """Rows beyond p_holzer_max_frequency are blank and find nothing: the inline-6's
+    second mode (≈ 1020 Hz) is found on the full grid and not below 600 Hz."""
+    import crankbook
+    full = crankbook.compute("inline-6", step=30.0)
+    short = crankbook.compute("inline-6", step=30.0, holzer_max_frequency=600.0)
+    grid = np.asarray(short["holzer_frequency"], dtype=float)
+    assert np.nanmax(grid) == 600.0 and np.isnan(grid[200:]).all()
+    assert np.isnan(short["holzer_amplitude"][200:]).all()
+    assert short["natural_frequency"][0] == full["natural_frequency"][0]
+    assert not np.isnan(full["natural_frequency"][1]) and np.isnan(short["natural_frequency"][1])
