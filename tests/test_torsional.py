@@ -271,3 +271,17 @@ def test_the_highest_trial_frequency_ends_the_grid():
     assert np.isnan(short["holzer_amplitude"][200:]).all()
     assert short["natural_frequency"][0] == full["natural_frequency"][0]
     assert not np.isnan(full["natural_frequency"][1]) and np.isnan(short["natural_frequency"][1])
+
+
+def test_thomsons_holzer_table_row_by_row():
+    """Thomson & Dahleh, *Theory of Vibration with Applications*, 5th ed., Example
+    12.4-1 and Table 12.4-1: J = 5, 11, 22 kg·m², K = 0.10·10⁶, 0.20·10⁶ N·m/rad,
+    trial ω = 20 and 40 rad/s; the printed amplitudes and torques to their printed
+    digits (4 significant figures)."""
+    J, K = [5.0, 11.0, 22.0], [0.10e6, 0.20e6]
+    printed = {20.0: ([1.0, 0.980, 0.9484], [2.0e3, 6.312e3, 14.66e3]),
+               40.0: ([1.0, 0.920, 0.799], [8.0e3, 24.19e3, 52.32e3])}
+    for omega, (theta, torque) in printed.items():
+        amplitude, shaft = torsional.holzer(omega, J, K)
+        assert amplitude[0] == pytest.approx(theta, abs=6e-4), omega
+        assert shaft[0] == pytest.approx(torque, rel=6e-4), omega
