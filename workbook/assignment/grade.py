@@ -223,8 +223,7 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
     with lock(output):                 # a second run into the same results is refused now
         return _grade(assignment, roster, lang, spec, preset, root, output, feedback,
                       previous, keep, missing_as_zero, progress, returns,
-                      dict(whole=whole, decisions=decisions, lms=lms,
-                           lms_template=lms_template))
+                      RunOptions(whole, decisions, lms, lms_template))
 
 
 def part_of(assignment, items=None, out_of=None):
@@ -251,15 +250,24 @@ def part_of(assignment, items=None, out_of=None):
     return dataclasses.replace(assignment, items=chosen, sheets=[s for s in sheets if s.items])
 
 
+@dataclass(frozen=True)
+class RunOptions:
+    """What a grading run carries beside the graded part of the assignment: the whole
+    assignment (answer shapes, keys and copying are judged on the whole file), the
+    teacher's override decisions and the LMS export."""
+    whole: object
+    decisions: list = field(default_factory=list)
+    lms: str = "generic"
+    lms_template: object = None
+
+
 def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previous, keep,
-           missing_as_zero, progress, returns=None, extra_options=None):
-    options = extra_options or {"whole": assignment, "decisions": [], "lms": "generic",
-                                "lms_template": None}
+           missing_as_zero, progress, returns, options):
     sweep_temporary()                  # scratch copies and engines of killed runs
     w = words(lang)
     earlier = rounds.load(previous, assignment) if previous else {}
 
-    shapes = answer_shapes(options["whole"], lang, spec)   # every answer: positions need angles
+    shapes = answer_shapes(options.whole, lang, spec)   # every answer: positions need angles
     subs = prepare(discover(root), root)
     for sub in steps(subs, w["progress_reading"], progress=progress):
         if not sub.problem:
@@ -273,7 +281,7 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
              and not f.startswith("p_")]
     grades = {sid: Grade(student_id=sid, name=row["name"],
                          extra={f: row.get(f, "") for f in extra}) for sid, row in by_id.items()}
-    keys = _Keys(options["whole"], spec, preset, by_id)
+    keys = _Keys(options.whole, spec, preset, by_id)
     mine = {}
     for sub in subs:
         if sub.student_id in grades:
@@ -295,7 +303,7 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
             g.status, g.problem = "unreadable", sub.problem
             continue
         try:
-            g.items, problems = grade_submission(sub, by_id[sid], options["whole"], spec,
+            g.items, problems = grade_submission(sub, by_id[sid], options.whole, spec,
                                                  preset, lang, keys.results(sid),
                                                  part=assignment)
         except Exception as error:          # one student's file must not stop the class
@@ -304,13 +312,13 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
         g.status = "graded"
         for word, fields in problems:
             g.note("positions", word, **fields)
-        edited = _rows_edited(sub, answer_shapes(options["whole"], lang, spec,
+        edited = _rows_edited(sub, answer_shapes(options.whole, lang, spec,
                                                  manifest_values(spec, by_id[sid])))
         if edited:
             g.note("rows-edited", "rows_edited", count=edited)
         _flag(g, sub, by_id, spec)
     graded = {sid: sub for sid, sub in chosen.items() if grades[sid].status == "graded"}
-    whole = options["whole"]          # copying is judged on the whole file
+    whole = options.whole          # copying is judged on the whole file
     suspicions = integrity.find(grades, graded, {sid: integrity.numeric_answers(sub, whole)
                                                  for sid, sub in graded.items()},
                                 keys.all_expected(), whole)
@@ -323,13 +331,13 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
     this_round = dict(grades)
     for sid in grades:
         grades[sid] = rounds.keep(grades[sid], earlier.get(sid), keep)
-    apply_overrides(grades, options["decisions"], assignment)
+    apply_overrides(grades, options.decisions, assignment)
     unmatched = [s for s in subs if s.student_id not in grades]
     with staged_directory(output, replace=True) as staging:
         write_results(staging, assignment, spec, lang, list(grades.values()), unmatched,
                       feedback=feedback, missing_as_zero=missing_as_zero,
                       suspicions=suspicions)
-        exports.write_lms(staging, options["lms"], options["lms_template"], assignment, lang,
+        exports.write_lms(staging, options.lms, options.lms_template, assignment, lang,
                           list(grades.values()), feedback, missing_as_zero)
     if returns is not None:
         from crankbook.assignment.annotate import write_returns
