@@ -172,3 +172,24 @@ def test_the_pages_have_commands_and_the_readme_stays_short():
     for link in re.findall(r"\]\((docs/[\w.-]+)\)", (ROOT / "README.md").read_text(
             encoding="utf-8")):
         assert (ROOT / link).is_file(), link
+
+
+PYTHON_WRITES = {"README.md": "output/i6.xlsx", "engineer.md": "output/thesis-3000.xlsx"}
+
+
+@pytest.mark.libreoffice
+@pytest.mark.parametrize("page", sorted(PYTHON_WRITES))
+def test_every_python_example_runs_as_printed(page, tmp_path, soffice):
+    """The pages' ``python`` blocks, run as a user pastes them, in a fresh directory."""
+    import subprocess
+    import sys
+    text = next(p for p in DOCS if p.name == page).read_text(encoding="utf-8")
+    blocks = re.findall(r"^```python\n(.*?)^```", text, flags=re.S | re.M)
+    assert blocks, page
+    for code in blocks:
+        done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
+                              text=True, timeout=600)
+        assert done.returncode == 0, done.stderr[-2000:]
+    assert (tmp_path / PYTHON_WRITES[page]).is_file()
+    others = [p.name for p in DOCS if "```python" in p.read_text(encoding="utf-8")]
+    assert sorted(others) == sorted(PYTHON_WRITES)          # no page's example left out
