@@ -256,7 +256,8 @@ def test_typed_values_must_fill_the_stations():
     typed = crankbook.compute("thesis", station_inertia_typed=[0, 0, 2.0],
                               section_stiffness_typed=[1e5, 0])
     assert typed["station_inertia"][-1] == 2.0 and typed["section_stiffness"][0] == 1e5
-    with pytest.raises(LayoutError, match="station_inertia_typed has 2 values"):
+    with pytest.raises(LayoutError, match="station_inertia_typed has 2 values, one per "
+                                          "station: this workbook has 3"):
         crankbook.compute("thesis", station_inertia_typed=[0, 0])
 
 

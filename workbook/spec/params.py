@@ -235,7 +235,7 @@ def fit_derived_items(spec, values, sizes):
         if given == list(parameter.default):
             values[parameter.key] = [parameter.default[0]] * count
             continue
-        raise LayoutError(f"parameter {parameter.key} has {len(given)} values: the "
-                          f"{axis.en.lower()} table has {count} "
-                          f"({axis.label_en.lower()} 1 … {count}), one value each")
+        label = axis.label_en.lower()
+        raise LayoutError(f"parameter {parameter.key} has {len(given)} values, one per "
+                          f"{label}: this workbook has {count} ({label} 1 … {count})")
     return values
