@@ -267,6 +267,24 @@ def test_the_language_is_documented_in_one_place():
         assert construct in text, construct
 
 
+def test_a_quantity_takes_one_named_part_of_a_calc_result():
+    """part = "y" of calc.cam.pitch_curve (a Point) is its y, exactly what the function
+    gives; a part the result does not have is the template's SpecError, by name."""
+    from crankbook.calc import cam
+    column = {"formula": "{crank_radius}", "calc": "calc.cam.pitch_curve", "part": "y",
+              "args": {"cam_angle": "angle", "displacement": "crank_radius",
+                       "offset": "crank_radius", "base_radius": "crank_radius",
+                       "rotation": "crank_radius"}}
+    spec = from_data(_with_column(**column))
+    out = evaluate.evaluate(spec, {"crank_radius": 50.0})
+    angle = np.radians(np.arange(0, 361, 30))
+    assert np.allclose(out["y"] / 1000, cam.pitch_curve(angle, 0.05, 0.05, 0.05, 0.05).y,
+                       rtol=1e-15, atol=0)
+    bad = from_data(_with_column(**{**column, "part": "z"}))
+    with pytest.raises(SpecError, match="y: calc 'calc.cam.pitch_curve' has no part 'z'"):
+        evaluate.evaluate(bad, {"crank_radius": 50.0})
+
+
 def test_a_templates_defaults_override_its_librarys():
     """[defaults] gives the template's own default to a library's parameter; a key
     nothing defines is an authoring mistake."""
