@@ -4,7 +4,7 @@
 template (crankbook.spec.placeholders) into Excel text for one context: a sheet, a grid
 row (series formulas carry markers for the row, filled per cell by :func:`fill`),
 an item (per-item quantities) and the indices of enclosing {sum:…} placeholders.
-What each placeholder becomes is documented in templates/README.md.
+What each placeholder becomes is documented in docs/templates.md.
 """
 import re
 from dataclasses import dataclass, field, replace

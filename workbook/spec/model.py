@@ -1,6 +1,6 @@
 """The model of a workbook specification: what templates/<name>.toml says, as objects.
 
-templates/README.md documents the language; crankbook.spec.loader reads the TOML
+docs/templates.md documents the language; crankbook.spec.loader reads the TOML
 into these objects and crankbook.spec.check refuses what cannot be meant.  Inputs
 are named p_<key>, every computed quantity q_<key>.
 """

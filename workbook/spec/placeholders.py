@@ -1,6 +1,6 @@
 """The placeholders of a formula template, parsed once into a small tree.
 
-A template is Excel formula text with placeholders in braces (templates/README.md):
+A template is Excel formula text with placeholders in braces (docs/templates.md):
 
     {key}               a parameter, constant, quantity (its meaning depends on where
                         the formula is: see crankbook.spec.formulas)
