@@ -156,15 +156,9 @@ def holzer_frequencies(inertia, stiffness, step, max_frequency):
         Lowest first; at most n − 1 (n stations); empty if the grid finds none.
     """
     grid = step * np.arange(1, int(np.floor(max_frequency / step + 1e-9)) + 1)
-    residual = holzer(2 * np.pi * grid, inertia, stiffness)[1][:, -1]
-    found = []
-    # row b ends a sign change when R_(b−1) ≠ 0 and R_(b−1)·R_b ≤ 0 (a zero at b is b)
-    for b in range(1, grid.size):
-        a = b - 1
-        if residual[a] != 0 and residual[a] * residual[b] <= 0:
-            found.append(grid[a] - residual[a] * (grid[b] - grid[a]) /
-                         (residual[b] - residual[a]))
-    return np.asarray(found[:np.asarray(inertia).size - 1], dtype=float)
+    residual = holzer(2 * np.pi * grid, inertia, stiffness).torque[:, -1]
+    found = _crossings(grid, residual, sign_changes(residual), np.asarray(inertia).size - 1)
+    return found[~np.isnan(found)]
 
 
 def natural_frequencies(inertia, stiffness):
@@ -187,8 +181,7 @@ def natural_frequencies(inertia, stiffness):
 
 def mode_shapes(frequencies, inertia, stiffness):
     """(stations, modes) relative amplitudes at each natural frequency, front = 1."""
-    amplitude, _ = holzer(2 * np.pi * np.asarray(frequencies, dtype=float), inertia, stiffness)
-    return amplitude.T
+    return mode_table(frequencies, inertia, stiffness).amplitude
 
 
 # ---------------------------------------------------------------- orders and speeds
@@ -295,13 +288,20 @@ def sign_changes(holzer_residual):
 
 
 def natural_frequency(holzer_frequency, holzer_residual, holzer_sign_changes, throw):
-    """Natural frequency of each mode [Hz] (NaN where the grid finds none): the row b
-    where the count of sign changes first reaches m, interpolated linearly with b − 1."""
-    f = np.asarray(holzer_frequency, dtype=float)
-    r = np.asarray(holzer_residual, dtype=float)
-    count = np.asarray(holzer_sign_changes, dtype=float)
-    out = np.full(section_count(throw), np.nan)
-    for m in range(1, out.size + 1):
+    """Natural frequency of each mode [Hz] (NaN where the grid finds none)."""
+    return _crossings(holzer_frequency, holzer_residual, holzer_sign_changes,
+                      section_count(throw))
+
+
+def _crossings(frequency, residual, count, modes):
+    """Mode m is the row b where the running count of sign changes first reaches m,
+    interpolated linearly with b − 1: f_a − R_a·(f_b − f_a)/(R_b − R_a) [Hz]; NaN for a
+    mode the grid does not reach."""
+    f = np.asarray(frequency, dtype=float)
+    r = np.asarray(residual, dtype=float)
+    count = np.asarray(count, dtype=float)
+    out = np.full(modes, np.nan)
+    for m in range(1, modes + 1):
         rows = np.flatnonzero(count == m)
         if rows.size:
             b = rows[0]
@@ -316,10 +316,9 @@ def torsion_orders():
 
 
 def critical_speed_table(natural_frequency, torsion_order):
-    """(orders, modes) critical speeds as angular velocities ω = 2π·f/k [rad/s]
-    (n = 60·f/k in r/min); NaN where a mode was not found."""
-    k = np.ravel(torsion_order).astype(float)[:, None]
-    return 2 * np.pi * np.asarray(natural_frequency, dtype=float)[None, :] / k
+    """(orders, modes) critical speeds as angular velocities [rad/s] (the sheet's r/min
+    in SI); NaN where a mode was not found."""
+    return critical_speeds(natural_frequency, np.ravel(torsion_order)) * np.pi / 30.0
 
 
 def critical_in_range(critical_speed, operating_speed):
@@ -355,11 +354,10 @@ def mode_table(natural_frequency, station_inertia, section_stiffness):
     return HolzerTable(amplitude, torque)
 
 
-def modal_inertia(natural_frequency, station_inertia, mode_shape):
-    """J_m = Σ J_i·θ_i² of each mode, front amplitude 1 [kg·m²] (NaN: not found)."""
-    theta = np.asarray(mode_shape, dtype=float)
-    return np.asarray(station_inertia, dtype=float) @ theta ** 2 + \
-        0.0 * np.asarray(natural_frequency, dtype=float)
+def modal_inertia(station_inertia, mode_shape):
+    """J_m = Σ J_i·θ_i² of each mode, front amplitude 1 [kg·m²] (NaN: a mode not found,
+    whose shape is NaN)."""
+    return np.asarray(station_inertia, dtype=float) @ np.asarray(mode_shape, dtype=float) ** 2
 
 
 def relative_amplitude_sums(mode_shape, throw, firing_angle, torsion_order):

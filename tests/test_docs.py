@@ -40,6 +40,8 @@ import shutil  # noqa: E402
 
 import pytest  # noqa: E402
 
+from crankbook.support import resources  # noqa: E402
+
 DOCS = [ROOT / "README.md"] + sorted((ROOT / "docs").glob("*.md"))
 NAME = re.compile(r"(?<![\w/.])([pqa])_([a-z][a-z0-9_]*[a-z0-9])")
 
@@ -94,7 +96,7 @@ def _commands(path):
             continue
         if not block:
             continue
-        line = pending + line.split("  #")[0].split("   #")[0].rstrip()
+        line = pending + line.split("  #")[0].rstrip()
         if line.endswith("\\"):
             pending = line[:-1] + " "
             continue
@@ -133,16 +135,14 @@ FIXTURES = {
     "名单.xlsx": lambda tmp, path: _roster(path),
     "returned/": _handed_in, "resubmitted/": _handed_in, "week3/": _handed_in,
     "我的作业.xlsx": lambda tmp, path: shutil.copy(_students(tmp)[0], path),
-    "returned.xlsx": lambda tmp, path: __import__("crankbook").compute(
-        "thesis", step=3.0).to_excel(path),
+    "returned.xlsx": lambda tmp, path: crankbook.compute("thesis", step=3.0).to_excel(path),
     "overrides.csv": lambda tmp, path: path.write_text(
         "student,item,action,points,reason,who\n"
         "2026001,a_crank_radius,accept,,agreed in class,teacher\n", encoding="utf-8"),
     "我的分组.csv": lambda tmp, path: path.write_text(
         "组号,stroke,offset\n10,300,50\n11,320,45\n", encoding="utf-8"),
     "my-course.toml": lambda tmp, path: path.write_text(
-        __import__("crankbook.support.resources", fromlist=["x"]).read_text(
-            "assignments", "course-design.toml"), encoding="utf-8"),
+        resources.read_text("assignments", "course-design.toml"), encoding="utf-8"),
 }
 DOCUMENTED_EXIT = {"check": 1}      # check: 1 when something would be lost (blank answers)
 

@@ -289,7 +289,6 @@ def read(path, recalculate=False, progress=None):
 def read_workbooks(paths, recalculate=False, progress=None):
     """Results of each workbook; with ``recalculate``, all in one LibreOffice start."""
     from crankbook.reading import recalc
-    from crankbook.reading.verification import _distinct
     from crankbook.reading.workbook_reader import stored_results
     from crankbook.support.progress import steps, waiting
     from crankbook.support.workspace import temporary_directory
@@ -297,6 +296,6 @@ def read_workbooks(paths, recalculate=False, progress=None):
         return [Results(**stored_results(p, p)) for p in steps(paths, "read", progress=progress)]
     with temporary_directory("read") as tmp:
         with waiting(f"read: recalculating {len(paths)} workbook(s) in LibreOffice", progress):
-            converted = recalc.convert(_distinct(paths, tmp), tmp)
+            converted = recalc.convert(recalc.distinct_inputs(paths, tmp), tmp)
         return [Results(**stored_results(c, p))
                 for p, c in steps(list(zip(paths, converted)), "read", progress=progress)]

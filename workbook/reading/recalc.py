@@ -109,3 +109,19 @@ def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
         raise RecalculationError("LibreOffice wrote no " + ", ".join(missing)
                                  + f": {(err or out).strip()[:300]}")
     return outputs
+
+
+def distinct_inputs(paths, tmp):
+    """The paths, copied under distinct names where two share a file name (an engine
+    writes each output under its input's name, so two a.xlsx would overwrite)."""
+    seen, out = set(), []
+    for number, path in enumerate(paths):
+        path = Path(path)
+        if path.stem in seen:
+            copy = Path(tmp) / "in" / f"{number:05d}-{path.name}"
+            copy.parent.mkdir(exist_ok=True)
+            shutil.copy(path, copy)
+            path = copy
+        seen.add(path.stem)
+        out.append(path)
+    return out

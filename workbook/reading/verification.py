@@ -5,7 +5,6 @@ Gnumeric); every q_ name read back is compared, by crankbook.reading.compare's o
 with the calc functions evaluated on the workbook's own inputs.
 """
 
-from pathlib import Path
 
 from crankbook.spec import params
 
@@ -48,28 +47,12 @@ def verify_workbooks(paths, engine="libreoffice", workdir=None, progress=None):
     frames = []
     with temporary_directory("verify", workdir) as tmp:
         with waiting(f"verify: recalculating {len(paths)} workbook(s) in {engine}", progress):
-            converted = recalc.convert(_distinct(paths, tmp), tmp, engine=engine)
+            converted = recalc.convert(recalc.distinct_inputs(paths, tmp), tmp, engine=engine)
         for (path, named, cached), after in steps(list(zip(loaded, converted)),
                                                  "verify: comparing", progress=progress):
             frames.append(_compared(path, named, cached, after, engine))
     return frames
 
-
-def _distinct(paths, tmp):
-    """The paths, copied under distinct names where two share a file name (the engine
-    writes each output under its input's name)."""
-    import shutil
-    seen, out = set(), []
-    for number, path in enumerate(paths):
-        path = Path(path)
-        if path.stem in seen:
-            copy = Path(tmp) / "in" / f"{number:05d}-{path.name}"
-            copy.parent.mkdir(exist_ok=True)
-            shutil.copy(path, copy)
-            path = copy
-        seen.add(path.stem)
-        out.append(path)
-    return out
 
 
 def _compared(path, named, cached, converted, engine):

@@ -100,7 +100,7 @@ def _as_grid_dict(spec, grids):
     return {**build_grids(spec), spec.grid.key: np.asarray(grids, dtype=float)}
 
 
-def part_of(result, q):
+def named_part(result, q):
     """The part ``q.part`` of a calc result of several named parts (a NamedTuple's
     field or a mapping's key): ``part = "x"`` of ``calc.cam.pitch_curve``."""
     if hasattr(result, "_fields") and q.part in result._fields:
@@ -154,7 +154,7 @@ class Evaluator:
         with np.errstate(all="ignore"):
             result = q.calc_function()(**kwargs)
         if q.part is not None:
-            result = part_of(result, q)
+            result = named_part(result, q)
         if q.is_grid:
             return np.asarray(result, dtype=float)
         if q.is_series or q.items:
