@@ -3,15 +3,19 @@ or Gnumeric is missing: the cross-checks are the point of the suite, and ./dev t
 installs both."""
 import contextlib
 import copy
+import html
 import io
 import os
+import re
 import subprocess
 import sys
 import traceback
+import zipfile
 from pathlib import Path
 
 import openpyxl
 import pytest
+from openpyxl.utils import coordinate_to_tuple, get_column_letter
 
 from crankbook.reading.recalc import find_soffice, find_ssconvert
 from crankbook.reading.workbook_reader import cells, defined_ranges, open_book
@@ -121,17 +125,64 @@ def _read_named(path, prefixes, only=None):
 
 def edit_cells(source, target, edits, tables=None):
     """Save ``source`` as ``target`` with input cells changed as a user would type them:
-    ``edits`` key -> value (a list for a per-item parameter), ``tables`` key -> column."""
-    book = openpyxl.load_workbook(source)
+    ``edits`` key -> value (a list for a per-item parameter), ``tables`` key -> column.
+
+    Only the typed cells' XML changes — the formula cells keep their (now stale) cached
+    values, as in a file saved before recalculation — so the engines do the same work
+    as on a built file (an openpyxl round trip, which drops every cached value, makes
+    LibreOffice's load twice as slow) and a stale value left unrecalculated fails."""
+    book = openpyxl.load_workbook(source, read_only=True)
+    sheet_files = _sheet_files(source)
+    changes = {}                                    # part -> {cell ref: new value}
     for key, value in {**edits, **(tables or {})}.items():
         sheet, ref = next(iter(book.defined_names[f"p_{key}"].destinations))
-        targets = [c for row in book[sheet][ref.replace("$", "")] for c in row] \
-            if ":" in ref else [book[sheet][ref.replace("$", "")]]
-        column = value if isinstance(value, (list, tuple)) or hasattr(value, "__len__") \
-            and not isinstance(value, str) else [value]
-        for cell, new in zip(targets, list(column) + [None] * len(targets)):
-            cell.value = None if new is None else (new if isinstance(new, str) else float(new))
-    book.save(target)
+        refs = [f"{get_column_letter(col)}{row}" for row, col in _cells_of(ref)]
+        column = list(value) if hasattr(value, "__len__") and not isinstance(value, str) \
+            else [value]
+        for cell, new in zip(refs, column + [None] * len(refs)):
+            changes.setdefault(sheet_files[sheet], {})[cell] = new
+    book.close()
+    with zipfile.ZipFile(source) as zin, zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as zout:
+        for item in zin.infolist():
+            data = zin.read(item.filename)
+            if item.filename in changes:
+                data = _retype(data.decode(), changes[item.filename]).encode()
+            zout.writestr(item, data)
+
+
+def _sheet_files(path):
+    """sheet name -> its part in the package (through workbook.xml and its rels)."""
+    with zipfile.ZipFile(path) as z:
+        sheets = re.findall(r'<sheet [^>]*name="([^"]+)"[^>]*r:id="([^"]+)"',
+                            z.read("xl/workbook.xml").decode())
+        rels = re.findall(r"<Relationship [^>]*>", z.read("xl/_rels/workbook.xml.rels").decode())
+    targets = {re.search(r' Id="([^"]+)"', rel).group(1):
+               re.search(r' Target="([^"]+)"', rel).group(1) for rel in rels}
+    return {html.unescape(name): "xl/" + targets[rid].lstrip("/").removeprefix("xl/")
+            for name, rid in sheets}
+
+
+def _cells_of(ref):
+    """(row, column) of every cell of an A1 reference such as $B$5 or $B$5:$B$9."""
+    first, _, last = ref.replace("$", "").partition(":")
+    (r0, c0), (r1, c1) = (coordinate_to_tuple(first), coordinate_to_tuple(last or first))
+    return [(r, c) for r in range(r0, r1 + 1) for c in range(c0, c1 + 1)]
+
+
+def _retype(xml, cells):
+    """The sheet XML with each cell's constant replaced (a number, a string, or blank)."""
+    def replace(match):
+        ref, style = match.group(1), match.group(2) or ""
+        new = cells.pop(ref)
+        if new is None:
+            return f'<c r="{ref}"{style}/>'
+        if isinstance(new, str):
+            return f'<c r="{ref}"{style} t="inlineStr"><is><t>{html.escape(new)}</t></is></c>'
+        return f'<c r="{ref}"{style}><v>{float(new)!r}</v></c>'
+    pattern = r'<c r="(%s)"( s="\d+")?(?: t="\w+")?(?:/>|>.*?</c>)' % "|".join(cells)
+    xml = re.sub(pattern, replace, xml, flags=re.S)
+    assert not cells, f"input cells not in the file (blank and unformatted?): {sorted(cells)}"
+    return xml
 
 
 @pytest.fixture(scope="session")
