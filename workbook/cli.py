@@ -63,7 +63,7 @@ def _build_parser():
                             "(default: 1)")
     build.add_argument("-o", "--output", metavar="PATH",
                        help="output .xlsx (default: output/<preset>.xlsx)")
-    build.add_argument("--quiet", action="store_true",
+    build.add_argument("-q", "--quiet", action="store_true",
                        help="no progress on the terminal (none is shown in a pipe anyway)")
 
     verify = commands.add_parser(
@@ -76,7 +76,7 @@ def _build_parser():
                         help="one or more workbooks (all recalculated in one engine start)")
     verify.add_argument("--engine", choices=("libreoffice", "gnumeric"), default="libreoffice",
                         help="spreadsheet engine that recalculates (default: libreoffice)")
-    verify.add_argument("--quiet", action="store_true",
+    verify.add_argument("-q", "--quiet", action="store_true",
                         help="no progress on the terminal (none is shown in a pipe anyway)")
 
     audit = commands.add_parser(
@@ -94,7 +94,7 @@ def _build_parser():
     audit.add_argument("--sources", metavar="DIR",
                        help="folder of the seed text files: check that every reported number "
                             "is printed at its line (exit 1 if one is not)")
-    audit.add_argument("--quiet", action="store_true",
+    audit.add_argument("-q", "--quiet", action="store_true",
                        help="no progress on the terminal (none is shown in a pipe anyway)")
 
     assign = commands.add_parser(
@@ -119,7 +119,7 @@ def _build_parser():
                              "shares the group's values — the preset's table (the guide's "
                              "附表1) or FILE (CSV or TOML: number/组号 and parameter keys); "
                              "the rest (the valve train) is still drawn per student")
-    assign.add_argument("--quiet", action="store_true",
+    assign.add_argument("-q", "--quiet", action="store_true",
                         help="no progress on the terminal (none is shown in a pipe anyway)")
 
     export = commands.add_parser(
@@ -182,7 +182,7 @@ def _build_parser():
                        help="also write each student's own workbook back to DIR, every "
                             "answer cell coloured and commented in the class's language, a "
                             "score box on the first sheet, and DIR/<id>.html")
-    grade.add_argument("--quiet", action="store_true",
+    grade.add_argument("-q", "--quiet", action="store_true",
                        help="no progress on the terminal (none is shown in a pipe anyway)")
 
     commands.add_parser("presets", help="list the presets")

@@ -191,7 +191,17 @@ Chart._write_num_cache = _write_num_cache
 
 class FastWorkbook(Workbook):
     """A workbook whose every sheet is a FastWorksheet (crankbook's formulas need none
-    of xlsxwriter's per-cell formula rewriting)."""
+    of xlsxwriter's per-cell formula rewriting), in Arial 10 throughout: the Normal
+    style's font sets the width of a column's character, and Calibri — xlsxwriter's
+    default — is missing on most Linux machines, where LibreOffice then measures
+    columns in a wider substitute (DejaVu Sans) and prints every sheet at two thirds of
+    its size.  Arial's metric twin, Liberation Sans, comes with LibreOffice; Arial 10
+    and Calibri 11 both make a 7-pixel character, so Excel's layout does not change."""
+
+    def __init__(self, filename=None, options=None):
+        super().__init__(filename, options)
+        self.formats[0].set_font_name("Arial")
+        self.formats[0].set_font_size(10)
 
     def add_worksheet(self, name=None, worksheet_class=None):
         return super().add_worksheet(name, worksheet_class=worksheet_class or FastWorksheet)

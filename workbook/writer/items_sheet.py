@@ -5,9 +5,10 @@ import math
 from crankbook.writer.charts import add_chart
 from crankbook.writer.layout import FIRST_ROW, label
 from crankbook.writer.parameters_sheet import input_cell, validation
-from crankbook.writer.print_setup import landscape_page, wrapped_title
+from crankbook.writer.print_setup import format_words_width, landscape_page, wrapped_title
+from crankbook.writer.styles import in_language
 from crankbook.writer.scalar_sheet import write_formula_cell
-from crankbook.writer.series_sheet import headers
+from crankbook.writer.series_sheet import fit_header_rows, headers
 
 
 def write_items_sheet(book, plan, layout, values, results, styles):
@@ -20,10 +21,12 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     last_col = max([layout.places[p.key].col for p in plan.inputs] +
                    [layout.places[q.key].col for q in plan.columns] + [0])
     widths = [12] + [COLUMN_WIDTH] * last_col
-    wrapped_title(ws, 0, label(sheet, layout.lang, "title_"), widths, styles.title_wrap)
-    wrapped_title(ws, 1, label(sheet, layout.other, "title_"), widths, styles.subtitle_wrap)
-    ws.set_row(FIRST_ROW - 3, 42)
-    ws.set_row(FIRST_ROW - 2, 42)
+    pages_wide = math.ceil(sum(w * 7 + 5 for w in widths) / PAGE_PIXELS)
+    # a table printed several pages wide: the titles wrap within its first page's share
+    # of the columns (a merged cell cut by a page break loses its text)
+    first_page = widths[:max(2, len(widths) // pages_wide)]
+    wrapped_title(ws, 0, label(sheet, layout.lang, "title_"), first_page, styles.title_wrap)
+    wrapped_title(ws, 1, label(sheet, layout.other, "title_"), first_page, styles.subtitle_wrap)
     headers(ws, 0, (label(axis, layout.lang), label(axis, layout.other)), "-", layout, styles,
             width=12)
     item_values = results[axis.value_key] if axis.value_key in results else [None] * count
@@ -39,10 +42,13 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     for quantity in plan.columns:
         col = layout.places[quantity.key].col
         headers(ws, col, (label(quantity, layout.lang), label(quantity, layout.other)),
-                quantity.unit, layout, styles, width=COLUMN_WIDTH)
+                quantity.unit, layout, styles, width=max(
+                    COLUMN_WIDTH, math.ceil(format_words_width(in_language(
+                        quantity.format or "", layout.lang)))))
         for i in range(count):
             write_formula_cell(ws, FIRST_ROW + i, col, quantity, layout, results, styles, name,
                                item=i + 1, value=results[quantity.key][i])
+    fit_header_rows(ws)
     row = FIRST_ROW + count + 2
     for chart_spec in sheet.charts:
         chart = add_chart(book, chart_spec, sheet, layout, {**values, **results}, ws, styles)
@@ -54,8 +60,7 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     ws.repeat_columns(0, 0)
     # the table prints (its charts print on the Charts sheet), as many pages wide as
     # keep it at about two thirds of its size or more
-    pixels = sum(w * 7 + 5 for w in widths)
-    ws.fit_to_pages(math.ceil(pixels / PAGE_PIXELS), 1)
+    ws.fit_to_pages(pages_wide, 1)
     ws.print_area(0, 0, FIRST_ROW + count - 1, last_col)
     return ws
 

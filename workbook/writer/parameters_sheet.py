@@ -4,7 +4,7 @@ from xlsxwriter.utility import xl_rowcol_to_cell
 
 from crankbook.spec.formulas import number
 from crankbook.writer.layout import PARAMETER_TABLE_ROW, label, unit_text
-from crankbook.writer.print_setup import landscape_page
+from crankbook.writer.print_setup import landscape_page, wrapped_texts
 from crankbook.writer.scalar_sheet import write_formula_cell
 
 HEADERS = {
@@ -78,11 +78,19 @@ def validation(ws, row, col, parameter, lang):
         "value": f"=AND(ISNUMBER({cell}),NOT({bound_condition(parameter, cell)}))", **common})
 
 
+WIDTHS = [28, 16, 9, 60, 70, 24]       # key, value, unit, 中文, English, range
+
+
+def _describe(ws, row, zh, en, styles):
+    """The row's two descriptions, the row as tall as the longer one."""
+    wrapped_texts(ws, row, {3: (zh, WIDTHS[3]), 4: (en, WIDTHS[4])}, styles.text)
+
+
 def write_parameters_sheet(book, layout, values, results, preset, styles):
     spec, lang = layout.spec, layout.lang
     name = layout.sheet_name["parameters"]
     ws = book.add_worksheet(name)
-    for col, width in enumerate([28, 16, 9, 60, 70, 24]):
+    for col, width in enumerate(WIDTHS):
         ws.set_column(col, col, width)
     ws.write(0, 0, f"{label(spec, lang)} — {both(('参数', 'Parameters'), lang)}", styles.title)
     ws.write(1, 0, f"{both(('预设', 'Preset'), lang)}: {preset['name']} — {preset[lang]}",
@@ -107,15 +115,13 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
             input_cell(ws, row, 1, item, values[item.key], styles)
             validation(ws, row, 1, item, lang)
             ws.write(row, 2, unit_text(item.unit))
-            ws.write(row, 3, item.zh, styles.text)
-            ws.write(row, 4, item.en, styles.text)
+            _describe(ws, row, item.zh, item.en, styles)
             ws.write(row, 5, item.bounds_text())
         elif entry.kind == "scalar":
             ws.write(row, 0, item.key, styles.key)
             write_formula_cell(ws, row, 1, item, layout, results, styles, name)
             ws.write(row, 2, unit_text(item.unit))
-            ws.write(row, 3, item.zh, styles.text)
-            ws.write(row, 4, item.en, styles.text)
+            _describe(ws, row, item.zh, item.en, styles)
         elif entry.kind == "bound":
             ref = f"p_{item.key}"
             if item.axis:
@@ -132,8 +138,7 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
             ws.write_formula(row, 1, f"=IF({condition},1,0)", styles.number("-", "0"), value)
             zh = f"{item.zh}{where[0]}：须为 {item.bounds_text()}"
             en = f"{item.key}{where[1]} must be {item.bounds_text()}"
-            ws.write(row, 3, zh, styles.text)
-            ws.write(row, 4, en, styles.text)
+            _describe(ws, row, zh, en, styles)
             checks.append(row)
         elif entry.kind == "rule":
             ws.write(row, 0, item.key, styles.key)
@@ -148,8 +153,7 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
                                  styles.text, item.en)
             else:
                 write_formula_cell(ws, row, 1, item, layout, results, styles, name)
-                ws.write(row, 3, item.zh, styles.text)
-                ws.write(row, 4, item.en, styles.text)
+                _describe(ws, row, item.zh, item.en, styles)
             checks.append(row)
         elif entry.kind == "valid":
             first, last = checks[0], checks[-1]
@@ -158,9 +162,8 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
             ws.write(row, 0, "inputs_valid", styles.key)
             # Only valid inputs are ever written (the command line refuses the rest).
             ws.write_formula(row, 1, f"=IF(SUM({flags})=0,1,0)", styles.number("-", "0"), 1)
-            ws.write(row, 3, "1 = 全部输入有效（所有公式以此为前提）", styles.text)
-            ws.write(row, 4, "1 = all inputs valid (every formula is guarded by this cell)",
-                     styles.text)
+            _describe(ws, row, "1 = 全部输入有效（所有公式以此为前提）",
+                      "1 = all inputs valid (every formula is guarded by this cell)", styles)
             ok_text = STATUS_OK[0] + " / " + STATUS_OK[1][2:] if lang == "zh" else \
                 STATUS_OK[1] + " / " + STATUS_OK[0][2:]
             msg = f"${primary}${first + 1}:${primary}${last + 1}"
@@ -184,6 +187,12 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
             ws.conditional_format(first, 1, last, 1, {
                 "type": "cell", "criteria": "==", "value": 1, "format": styles.status_bad})
     ws.freeze_panes(3, 0)
-    landscape_page(ws)
+    # the inputs and derived values print; the checks below them stay on the screen —
+    # one 0 per rule is not worth a page, and the status cell at the top says in words
+    # which rule the inputs break
+    printed = next(e.row for e in layout.parameter_rows
+                   if e.kind == "heading" and e.item == "checks") - 2
+    ws.print_area(0, 0, printed, len(WIDTHS) - 1)
+    landscape_page(ws, WIDTHS, printed)
     ws.activate()
     return ws

@@ -1,12 +1,63 @@
 """Page setup shared by the sheet writers: A4 landscape, one page wide, headers
 repeated on every page."""
-import math
+import re
 
 from crankbook.writer.layout import FIRST_ROW
 
 A4 = 9
+PRINTABLE_POINTS = (842 - 2 * 0.7 * 72, 595 - 2 * 0.75 * 72)   # A4 landscape less the
+                                                                # default margins
 NO_PRINT = (0, 16383, 0, 16383)   # a print area on an always-empty cell: the sheet is
                                   # skipped when the whole workbook prints
+
+
+def text_lines(text, width, size=10, bold=False):
+    """Lines a wrapped text takes in a cell ``width`` characters wide (Arial ``size``
+    pt), by wrapping it word by word as the engines do, on the generous side, so a
+    row sized by it never cuts its text (an engine does not fit a row to wrapped text
+    it loads with a height of its own).  Widths measured in LibreOffice's PDFs at
+    10 pt, in a column's characters: a CJK glyph 1.7 (a line may break after any), a
+    Latin letter 0.85, a Greek letter or symbol 1.0; all scale with the font, bold
+    5 % wider."""
+    scale = size / 10 * (1.05 if bold else 1.0)
+    room = max(width - 1, 1)                                    # the cell's padding
+    return sum(_wrapped_lines(line, room, scale) for line in str(text).split("\n"))
+
+
+def _wrapped_lines(line, room, scale):
+    lines, used = 1, 0.0
+    for token in re.findall(r"[\u2e80-\uffff]|[^\s\u2e80-\uffff]+\s*|\s+", line):
+        size = scale * sum(1.7 if ord(ch) > 0x2E7F else 0.85 if ord(ch) < 0x80 else 1.0
+                           for ch in token.rstrip())
+        if used and used + size > room:                         # the word moves down
+            lines, used = lines + 1, 0.0
+        while size > room:                                      # a word wider than the cell
+            lines, size = lines + 1, size - room
+        used += size + scale * 0.85 * (len(token) - len(token.rstrip()))
+    return lines
+
+
+def format_words_width(fmt):
+    """Characters of column the widest word a number format shows needs ("balanced
+    平衡"): a number shown through a text format cannot spill into the next cell."""
+    words = re.findall(r'"([^"]*)"', fmt or "")
+    return max((sum(1.7 if ord(ch) > 0x2E7F else 0.85 for ch in word) + 2 for word in words),
+               default=0)
+
+
+def line_height(size=10):
+    """Points of one line of Arial ``size`` pt in a row."""
+    return round(size * 1.25, 1)
+
+
+def wrapped_texts(ws, row, texts, fmt):
+    """Texts wrapped in their cells — ``texts`` {column: (text, width in characters)}
+    — and the row as tall as the longest, so a printed row never runs into the next."""
+    for col, (text, width) in texts.items():
+        ws.write(row, col, text, fmt)
+    # one line too: LibreOffice makes a row holding CJK glyphs 17 pt tall on its own
+    lines = max(text_lines(text, width) for text, width in texts.values())
+    ws.set_row(row, lines * line_height() + 1.5)
 
 
 def wrapped_title(ws, row, text, widths, fmt):
@@ -16,11 +67,10 @@ def wrapped_title(ws, row, text, widths, fmt):
     if last < 1:
         ws.write(row, 0, text, fmt)
         return
-    chars = sum(widths) * 1.1
-    width = sum(1.9 if ord(ch) > 0x2E7F else 1 for ch in text)
-    lines = max(1, math.ceil(width / chars))
+    size = fmt.font_size
+    lines = text_lines(text, sum(widths), size, fmt.bold)
     ws.merge_range(row, 0, row, last, text, fmt)
-    ws.set_row(row, 20 * lines if fmt.bold else 14 * lines)
+    ws.set_row(row, lines * line_height(size) + 4)
 
 
 def landscape_report(ws, layout, sheet_spec, rows, last_col, chart_col):
@@ -37,8 +87,20 @@ def landscape_report(ws, layout, sheet_spec, rows, last_col, chart_col):
     ws.repeat_columns(0, 0)
 
 
-def landscape_page(ws):
-    """A4 landscape, one page wide (tables of a few dozen rows)."""
+def landscape_page(ws, widths=None, last_row=None):
+    """A4 landscape, one page wide (tables of a few dozen rows).  Given the columns'
+    ``widths`` (characters) and the last printed row, a table whose last page would
+    hold under a third of a page is shrunk onto one page fewer instead."""
     ws.set_paper(A4)
     ws.set_landscape()
     ws.fit_to_pages(1, 0)
+    if widths is None:
+        return
+    # LibreOffice draws a character of the columns' Arial 10 eight pixels wide (Excel
+    # seven) and a row of its own height up to 17 pt tall (with CJK glyphs)
+    scale = min(1.0, PRINTABLE_POINTS[0] * 4 / 3 / sum(8 * w + 5 for w in widths))
+    points = sum(ws.row_sizes[row][0] * 0.75 if row in ws.row_sizes else 17
+                 for row in range(last_row + 1))
+    pages = points * scale / PRINTABLE_POINTS[1]
+    if pages > 1 and pages % 1 < 1 / 3:
+        ws.fit_to_pages(1, int(pages))

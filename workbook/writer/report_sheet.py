@@ -12,13 +12,15 @@ import math
 from xlsxwriter.utility import xl_rowcol_to_cell
 
 from crankbook.spec.formulas import quote_sheet
-from crankbook.writer.layout import FIRST_ROW, FIXED_SHEETS, label, unit_text
+from crankbook.writer.layout import FIRST_ROW, FIXED_SHEETS, label
 from crankbook.writer.print_setup import A4
+from crankbook.writer.series_sheet import fit_header_rows, headers
 
 MAX_ROWS = 49              # printed rows of one block: one page tall
 COLUMN_WIDTH = 12          # characters
 PAGE_WIDTH_PX = 1040       # A4 landscape less the margins, at 96 dpi
 PAGE_HEIGHT_PT = 595 - 72  # A4 landscape less the margins
+ROW_POINTS = 15            # a row of numbers
 NOTE = {"zh": "各计算表的列（公式引用各表），每 {step:g}° 一行；各表的完整数据与图表见各表，图表另见“图表”表。",
         "en": "The columns of the quantity sheets (formulas on them), one row every {step:g}°; "
               "each sheet holds its full table and charts, and the Charts sheet the charts."}
@@ -90,10 +92,8 @@ def write_report_sheet(book, layout, results, styles):
         rows, step = printed_rows(list(map(float, values)), step)
         ws.write(row, 0, NOTE[lang].format(step=step), styles.subtitle)
         header = row + 1
-        for col, words in ((0, (label(grid_q, lang), label(grid_q, layout.other))),):
-            ws.write(header, col, words[0], styles.header)
-            ws.write(header + 1, col, words[1], styles.header_other)
-            ws.write(header + 2, col, f"[{unit_text(grid_q.unit)}]", styles.unit)
+        headers(ws, 0, (label(grid_q, lang), label(grid_q, layout.other)), grid_q.unit,
+                layout, styles, width=10, row=header)
         angle_format = styles.number(grid_q.unit, grid_q.format)
         for k, i in enumerate(rows):
             ws.write_formula(header + 3 + k, 0, f"={master}!{xl_rowcol_to_cell(FIRST_ROW + i, 0)}",
@@ -101,23 +101,20 @@ def write_report_sheet(book, layout, results, styles):
         for c, (words, unit, sheet, source_col, key, item) in enumerate(columns, start=1):
             quantity = spec.quantity[key]
             fmt = styles.number(unit, quantity.format)
-            ws.write(header, c, words[0], styles.header)
-            ws.write(header + 1, c, words[1], styles.header_other)
-            ws.write(header + 2, c, f"[{unit_text(unit)}]", styles.unit)
+            headers(ws, c, words, unit, layout, styles, width=COLUMN_WIDTH, row=header)
             data = results[key] if item is None else results[key][:, item]
             for k, i in enumerate(rows):
                 value = float(data[i])
                 ws.write_formula(header + 3 + k, c,
                                  f"={quote_sheet(sheet)}!{xl_rowcol_to_cell(FIRST_ROW + i, source_col)}",
                                  fmt, value if math.isfinite(value) else "")
-        ws.set_row(header, 42)
-        ws.set_row(header + 1, 42)
+        header_points = fit_header_rows(ws, header)
         widest = max(widest, len(columns))
-        tallest = max(tallest, len(rows))
+        tallest = max(tallest, (len(rows) + 5) * ROW_POINTS + header_points)
         row = header + 3 + len(rows) + 1
     ws.set_column(0, 0, 10)
     ws.set_column(1, widest, COLUMN_WIDTH)
-    scale = _scale(tallest + 5)
+    scale = _scale(tallest)
     per_page = max(1, int((PAGE_WIDTH_PX * 100 / scale - 75) / (COLUMN_WIDTH * 7 + 5)))
     per_page = math.ceil(widest / math.ceil(widest / per_page))    # pages alike
     ws.set_v_pagebreaks(list(range(1 + per_page, widest + 1, per_page)))
@@ -131,7 +128,6 @@ def write_report_sheet(book, layout, results, styles):
     return ws
 
 
-def _scale(printed_lines):
-    """A print scale that fits a block of ``printed_lines`` rows on one landscape page."""
-    needed = printed_lines * 15 + 2 * 42
-    return max(40, min(100, int(100 * PAGE_HEIGHT_PT / needed)))
+def _scale(points):
+    """A print scale that fits a block ``points`` tall on one landscape page."""
+    return max(40, min(100, int(100 * PAGE_HEIGHT_PT / points)))

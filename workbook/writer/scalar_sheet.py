@@ -1,7 +1,10 @@
 """Rows of named scalar results (key, value, unit, labels), and sheets made of them."""
 from crankbook.writer.layout import SCALAR_FIRST_ROW, label, unit_text
-from crankbook.writer.print_setup import landscape_page
+from crankbook.writer.print_setup import landscape_page, wrapped_texts
 from crankbook.writer.series_sheet import cached
+
+
+WIDTHS = [30, 16, 9, 60, 70]        # key, value, unit, 中文, English
 
 
 def write_formula_cell(ws, row, col, quantity, layout, results, styles, sheet_name,
@@ -45,8 +48,8 @@ def write_scalar_rows(ws, row, quantities, layout, results, styles, sheet_name):
         ws.write(row, 0, quantity.key, styles.key)
         write_formula_cell(ws, row, 1, quantity, layout, results, styles, sheet_name)
         ws.write(row, 2, unit_text(quantity.unit))
-        ws.write(row, 3, quantity.zh, styles.text)
-        ws.write(row, 4, quantity.en, styles.text)
+        wrapped_texts(ws, row, {3: (quantity.zh, WIDTHS[3]), 4: (quantity.en, WIDTHS[4])},
+                      styles.text)
         row += 1
     return row
 
@@ -54,7 +57,7 @@ def write_scalar_rows(ws, row, quantities, layout, results, styles, sheet_name):
 def write_scalar_sheet(book, sheet_spec, layout, results, styles):
     name = layout.sheet_name[sheet_spec.key]
     ws = book.add_worksheet(name)
-    for col, width in enumerate([30, 16, 9, 60, 70]):
+    for col, width in enumerate(WIDTHS):
         ws.set_column(col, col, width)
     ws.write(0, 0, label(sheet_spec, layout.lang, "title_"), styles.title)
     ws.write(1, 0, label(sheet_spec, layout.other, "title_"), styles.subtitle)

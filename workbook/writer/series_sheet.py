@@ -7,7 +7,7 @@ from crankbook.spec.formulas import ROW, quote_sheet
 from crankbook.writer.charts import add_chart, chart_column_width
 from crankbook.writer.fast_sheet import FastWorksheet
 from crankbook.writer.layout import FIRST_ROW, label, unit_text
-from crankbook.writer.print_setup import NO_PRINT, landscape_report
+from crankbook.writer.print_setup import NO_PRINT, landscape_report, line_height, text_lines
 
 COLUMN_WIDTH = 15
 
@@ -19,12 +19,27 @@ def cached(value):
     return value if math.isfinite(value) else ""
 
 
-def headers(ws, col, words, unit, layout, styles, width=COLUMN_WIDTH):
-    """Three header rows: the label in the sheet's language, in the other, the unit."""
-    ws.write(FIRST_ROW - 3, col, words[0], styles.header)
-    ws.write(FIRST_ROW - 2, col, words[1], styles.header_other)
-    ws.write(FIRST_ROW - 1, col, f"[{unit_text(unit)}]", styles.unit)
+def headers(ws, col, words, unit, layout, styles, width=COLUMN_WIDTH, row=FIRST_ROW - 3):
+    """Three header rows: the label in the sheet's language, in the other, the unit
+    (``fit_header_rows`` then makes the first two as tall as their longest label)."""
+    ws.write(row, col, words[0], styles.header)
+    ws.write(row + 1, col, words[1], styles.header_other)
+    ws.write(row + 2, col, f"[{unit_text(unit)}]", styles.unit)
     ws.set_column(col, col, width)
+    tallest = getattr(ws, "header_lines", {}).get(row, (3, 3))
+    ws.header_lines = {**getattr(ws, "header_lines", {}), row: (
+        max(tallest[0], text_lines(words[0], width, bold=True)),
+        max(tallest[1], text_lines(words[1], width)))}
+
+
+def fit_header_rows(ws, row=FIRST_ROW - 3):
+    """The two label rows of the headers at ``row`` as tall as their longest label
+    (three lines at least, so neighbouring tables line up); their height in points."""
+    heights = [lines * line_height() + 2
+               for lines in getattr(ws, "header_lines", {}).get(row, (3, 3))]
+    for offset, height in enumerate(heights):
+        ws.set_row(row + offset, height)
+    return sum(heights)
 
 
 def _words(item, layout, suffix=""):
@@ -37,8 +52,6 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
     ws = book.add_worksheet(name, worksheet_class=FastWorksheet)
     ws.write(0, 0, label(sheet_spec, layout.lang, "title_"), styles.title)
     ws.write(1, 0, label(sheet_spec, layout.other, "title_"), styles.subtitle)
-    ws.set_row(FIRST_ROW - 3, 42)
-    ws.set_row(FIRST_ROW - 2, 42)
     ws.freeze_panes(FIRST_ROW, 1)
 
     grid_q = spec.quantity[sheet_spec.grid]
@@ -63,6 +76,7 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
                     if p.sheet == name), default=0)
     for table in layout.tables_on(sheet_spec.key):
         _write_input_table(ws, table, layout, results, styles)
+    fit_header_rows(ws)
     chart_col = last_col + 2
     row = FIRST_ROW
     for chart_spec in sheet_spec.charts:

@@ -1,7 +1,7 @@
 """The Summary sheet: the key data, the extremes of each quantity with the crank
 angle where they first occur, and the cycle results — all formulas."""
 from crankbook.writer.layout import label, spec_key_data, summary_series, unit_text
-from crankbook.writer.print_setup import landscape_page
+from crankbook.writer.print_setup import landscape_page, wrapped_texts
 from crankbook.writer.scalar_sheet import write_formula_cell
 from crankbook.writer.series_sheet import cached
 
@@ -9,12 +9,21 @@ COLUMNS = [("量", "Quantity"), ("Quantity", "量"), ("单位", "Unit"), ("最�
            ("最大值处", "at the maximum"), ("最小值", "Minimum"), ("最小值处", "at the minimum")]
 
 
+WIDTHS = [56, 44, 9, 16, 16, 14, 16]
+
+
+def _labels(ws, row, item, layout, styles):
+    """The quantity's name in both languages, the row as tall as the longer."""
+    wrapped_texts(ws, row, {0: (label(item, layout.lang), WIDTHS[0]),
+                            1: (label(item, layout.other), WIDTHS[1])}, styles.text)
+
+
 def write_summary_sheet(book, layout, values, results, styles):
     spec, lang = layout.spec, layout.lang
     name = layout.sheet_name["summary"]
     ws = book.add_worksheet(name)
     rows = layout.summary_rows
-    for col, width in enumerate([56, 44, 9, 16, 16, 14, 16]):
+    for col, width in enumerate(WIDTHS):
         ws.set_column(col, col, width)
     ws.write(0, 0, f"{label(spec, lang)} — {'汇总' if lang == 'zh' else 'Summary'}", styles.title)
     ws.write(1, 0, "所有数值均为公式 / every value is a formula", styles.subtitle)
@@ -33,8 +42,7 @@ def write_summary_sheet(book, layout, values, results, styles):
                        else "Key data / 主要数据", styles.group)
         for offset, key in enumerate(key_data, start=1):
             item = spec.parameter.get(key) or spec.quantity.get(key)
-            ws.write(row + offset, 0, label(item, lang), styles.text)
-            ws.write(row + offset, 1, label(item, layout.other), styles.text)
+            _labels(ws, row + offset, item, layout, styles)
             ws.write(row + offset, 2, unit_text(item.unit))
             value = values[key] if key in spec.parameter else results[key]
             ws.write_formula(row + offset, 3, f"={layout.locator.name(key)}",
@@ -50,8 +58,7 @@ def write_summary_sheet(book, layout, values, results, styles):
         ws.write(row, col, text, styles.header)
     for quantity in summary_series(spec):
         row += 1
-        ws.write(row, 0, label(quantity, lang), styles.text)
-        ws.write(row, 1, label(quantity, layout.other), styles.text)
+        _labels(ws, row, quantity, layout, styles)
         ws.write(row, 2, unit_text(quantity.unit))
         for col, stat in enumerate(["max", "max_angle", "min", "min_angle"], start=3):
             key = f"{quantity.key}_{stat}"
@@ -63,10 +70,9 @@ def write_summary_sheet(book, layout, values, results, styles):
                        else "Cycle results / 循环结果", styles.group)
     for quantity in spec.results:
         row += 1
-        ws.write(row, 0, label(quantity, lang), styles.text)
-        ws.write(row, 1, label(quantity, layout.other), styles.text)
+        _labels(ws, row, quantity, layout, styles)
         ws.write(row, 2, unit_text(quantity.unit))
         write_formula_cell(ws, row, 3, quantity, layout, results, styles, name)
     ws.freeze_panes(rows["extremes"] + 1, 1)
-    landscape_page(ws)
+    landscape_page(ws, WIDTHS, row)
     return ws
