@@ -6,9 +6,9 @@ from crankbook.writer.charts import add_chart
 from crankbook.writer.layout import FIRST_ROW, label
 from crankbook.writer.parameters_sheet import input_cell, validation
 from crankbook.writer.print_setup import format_words_width, landscape_page, wrapped_title
-from crankbook.writer.styles import in_language
 from crankbook.writer.scalar_sheet import write_formula_cell
 from crankbook.writer.series_sheet import fit_header_rows, headers
+from crankbook.writer.styles import in_language
 
 
 def write_items_sheet(book, plan, layout, values, results, styles):

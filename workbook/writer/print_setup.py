@@ -24,11 +24,15 @@ def text_lines(text, width, size=10, bold=False):
     return sum(_wrapped_lines(line, room, scale) for line in str(text).split("\n"))
 
 
+def _glyphs_width(text):
+    """Characters of column ``text`` takes at Arial 10 (see ``text_lines``)."""
+    return sum(1.7 if ord(ch) > 0x2E7F else 0.85 if ord(ch) < 0x80 else 1.0 for ch in text)
+
+
 def _wrapped_lines(line, room, scale):
     lines, used = 1, 0.0
     for token in re.findall(r"[\u2e80-\uffff]|[^\s\u2e80-\uffff]+\s*|\s+", line):
-        size = scale * sum(1.7 if ord(ch) > 0x2E7F else 0.85 if ord(ch) < 0x80 else 1.0
-                           for ch in token.rstrip())
+        size = scale * _glyphs_width(token.rstrip())
         if used and used + size > room:                         # the word moves down
             lines, used = lines + 1, 0.0
         while size > room:                                      # a word wider than the cell
@@ -41,8 +45,7 @@ def format_words_width(fmt):
     """Characters of column the widest word a number format shows needs ("balanced
     平衡"): a number shown through a text format cannot spill into the next cell."""
     words = re.findall(r'"([^"]*)"', fmt or "")
-    return max((sum(1.7 if ord(ch) > 0x2E7F else 0.85 for ch in word) + 2 for word in words),
-               default=0)
+    return max((_glyphs_width(word) + 2 for word in words), default=0)
 
 
 def line_height(size=10):

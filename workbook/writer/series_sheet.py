@@ -26,10 +26,11 @@ def headers(ws, col, words, unit, layout, styles, width=COLUMN_WIDTH, row=FIRST_
     ws.write(row + 1, col, words[1], styles.header_other)
     ws.write(row + 2, col, f"[{unit_text(unit)}]", styles.unit)
     ws.set_column(col, col, width)
-    tallest = getattr(ws, "header_lines", {}).get(row, (3, 3))
-    ws.header_lines = {**getattr(ws, "header_lines", {}), row: (
-        max(tallest[0], text_lines(words[0], width, bold=True)),
-        max(tallest[1], text_lines(words[1], width)))}
+    if not hasattr(ws, "header_lines"):
+        ws.header_lines = {}                # header row -> lines of its two label rows
+    tallest = ws.header_lines.get(row, (3, 3))
+    ws.header_lines[row] = (max(tallest[0], text_lines(words[0], width, bold=True)),
+                            max(tallest[1], text_lines(words[1], width)))
 
 
 def fit_header_rows(ws, row=FIRST_ROW - 3):
