@@ -453,15 +453,40 @@ def test_table_finding_names_the_ratio_the_motion_table_follows():
     fit = report.claims[keys.index("motion_fit")]
     assert keys.index("motion_fit") + 1 == keys.index("motion_phi_rad_0")   # above its entries
     finding = _findings("course-report")["motion_fit"]
-    assert finding["derived"] == pytest.approx(0.765, abs=0.005)  # λ the θ2 column follows
+    assert finding["derived"] == pytest.approx(130 / 170, abs=1e-5)  # λ the v column follows
     assert finding["recomputed"] == pytest.approx(135 / 170)
     assert finding["status"] == "mismatch"
     by_column = {f.column: f.result() for f in fit.fits}
-    assert by_column["v"]["fitted"] == pytest.approx(0.765, abs=0.005)
+    assert by_column["v"]["values"] == pytest.approx(
+        {"lam": 130 / 170, "w1_used": 68.0, "pi_used": 3.14}, rel=1e-5)
+    assert by_column["theta2"]["fitted"] == pytest.approx(130 / 170, abs=0.005)
     assert by_column["s"]["fitted"] == pytest.approx(135 / 170, abs=0.002)   # s keeps λ
-    assert by_column["w2"]["fitted"] == pytest.approx(34.0, abs=0.1)
+    assert by_column["w2"]["fitted"] == pytest.approx(34.0, abs=0.01)
+    assert by_column["a"]["values"] == pytest.approx({"w1_used": 68.0, "amplitude": 34.0},
+                                                     rel=1e-5)
     assert by_column["phi_rad"]["fitted"] == pytest.approx(3.14, abs=0.002)  # π as 3.14
-    assert "0.7636" in finding["note"]
+    assert "130/170" in _findings("course-report")["motion_theta2_300"]["note"]
+    for result in by_column.values():                  # every entry reproduced
+        assert result["rms"] < 0.5
+
+
+def test_motion_table_is_reproduced_by_the_inputs_its_fit_names():
+    """Independent of the fit: π = 3.14, ω1 = 68 rad/s, λ = 130/170 in the rod angle,
+    L1 = 135 and L2 = 170 mm in s and a, ω2 = −34·cosφ/cosθ2 reproduce every printed
+    entry of the 2.3 table to half a unit of its last printed digit."""
+    table = next(t for t in claims.read_named(claims.CLAIMS, "course-report", "document")
+                 ["table"] if t["key"] == "motion")
+    phi = np.radians(np.array(table["rows"], float)) * 3.14 / np.pi
+    theta = np.arcsin(-130 / 170 * np.sin(phi))
+    w2 = -34 * np.cos(phi) / np.cos(theta)
+    model = {"phi_rad": phi, "theta2": theta,
+             "s": 135 * np.cos(phi) + np.sqrt(170**2 - (135 * np.sin(phi))**2),
+             "v": -68 * 135 * np.sin(phi - theta) / np.cos(theta), "w2": w2,
+             "a": (-68**2 * 135 * np.cos(phi - theta) - w2**2 * 170) / np.cos(theta)}
+    for column in table["column"]:
+        for text, value in zip(column["values"], model[column["key"]]):
+            half = 0.5 * 10.0 ** -len(str(text).partition(".")[2])
+            assert abs(float(text) - value) <= half * (1 + 1e-9), (column["key"], text, value)
 
 
 def test_verdicts_follow_the_kind():

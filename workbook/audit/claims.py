@@ -38,7 +38,8 @@ A ``[[table]]`` of a claims file is a printed table: one claim per entry, its ro
 setting one input (e.g. the crank angle), each ``[[table.column]]`` giving the
 printed values (as printed, with their ``offsets``) and that column's
 recomputation; its ``[[table.fit]]``s make one finding above the entries — which
-value of an input the printed columns follow (:class:`TableFit`).  ``[document]
+values of the inputs the printed columns follow (:class:`TableFit`); ``[table.let]``
+names expressions its fits, derived values and notes share (:class:`Names`).  ``[document]
 audited`` names the line ranges whose every number is accounted for (:func:`coverage`):
 inside a claim's quote, or left out by its form (NUMBERING) or by an ``[[omitted]]``
 entry (``line`` with ``quote`` or ``span``, or ``lines``) with ``why``.
@@ -117,15 +118,22 @@ def cranks(firing_order, interval):
 
 
 @lru_cache(maxsize=None)
-def table_fit(document, table, column):
-    """The value a printed column follows, from its table's fit row (a derived value
-    that shows the column's pattern uses it, so the two always say the same)."""
+def table_fit(document, table, column, parameter=None):
+    """The value a printed column follows (of ``parameter``, where its fit has
+    several), from its table's fit row (a derived value that shows the column's
+    pattern uses it, so the two always say the same)."""
     fit_key = f"{table}_fit"
     for claim in load(document).claims:
         if claim.key == fit_key:
             for fit in claim.fits:
                 if fit.column == column:
-                    return fit.result()["fitted"]
+                    values = fit.result()["values"]
+                    if parameter is None:
+                        return fit.result()["fitted"]
+                    if parameter in values:
+                        return values[parameter]
+                    raise ValueError(f"{document}: the fit of column {column!r} has no "
+                                     f"parameter {parameter!r}")
     raise ValueError(f"{document}: table {table!r} has no fit of column {column!r}")
 
 
@@ -151,6 +159,29 @@ HELPERS = {
     "table_fit": table_fit,
     "claim_value": lambda document, key: claim_value(document, key),
 }
+
+
+class Names(dict):
+    """What an expression of a claim or a fit can name: the inputs, and the names its
+    table's ``let`` defines (expressions over the inputs, the row input, the helpers
+    and each other), each computed on first use — lazily, so that a fit's own
+    expression may sit beside names that use its result."""
+
+    def __init__(self, values, let=None, helpers=None):
+        super().__init__(values)
+        self.let, self.helpers = let or {}, helpers or HELPERS
+
+    def __missing__(self, name):
+        if name not in self.let:
+            raise KeyError(name)
+        self[name] = value = eval(_compiled(self.let[name]), self.helpers,  # noqa: S307
+                                  self)
+        return value
+
+
+@lru_cache(maxsize=None)
+def _compiled(expression):
+    return compile(expression, "<let>", "eval")
 
 
 @dataclass
@@ -182,6 +213,7 @@ class Claim:
     rounded: dict = field(default_factory=dict)   # inputs the document prints rounded:
                                        # name -> half a unit of their last printed digit
     fits: list = field(default_factory=list)      # a table's fit row: [TableFit, ...]
+    let: dict = field(default_factory=dict)        # a table's named expressions (Names)
 
     def texts(self):
         """The claim's own words — note, model, missing, the derived value's meaning —
@@ -212,12 +244,12 @@ class Claim:
         :meth:`values`, {=expression} or {=expression:format} evaluated like ``python``."""
         if not text:
             return text
-        values = self.values(recomputed, derived)
+        names = Names(self.values(recomputed, derived), self.let)
 
         def fill(match):
             computed, body, fmt = match.group(1), match.group(2), match.group(3)
-            value = eval(body, HELPERS, dict(values)) if computed \
-                else values[body]  # noqa: S307 (our data)
+            value = eval(body, HELPERS, names) if computed \
+                else names[body]  # noqa: S307 (our data)
             return shown(value, fmt)
         return PLACEHOLDER.sub(fill, text)
 
@@ -225,7 +257,8 @@ class Claim:
         """The recomputed value in the document's unit, or None (unverifiable)."""
         if self.kind == "unverifiable" or self.python is None:
             return None
-        return float(eval(self.python, HELPERS, dict(inputs or self.inputs)))  # noqa: S307
+        return float(eval(self.python, HELPERS,  # noqa: S307 (our data)
+                          Names(inputs or self.inputs, self.let)))
 
     def derived_value(self, inputs=None):
         if self.fits:
@@ -233,7 +266,7 @@ class Claim:
         if not self.derived:
             return None
         return float(eval(self.derived["python"], HELPERS,  # noqa: S307 (our data)
-                          dict(inputs or self.inputs)))
+                          Names(inputs or self.inputs, self.let)))
 
     def rounding_effect(self):
         """How far the rounding of the printed inputs in ``rounded`` can move the
@@ -287,7 +320,7 @@ class Claim:
         if self.fits:
             fit = self.fits[0]
             return fit.result()["uncertainty"], (
-                f"the change of {fit.what} that moves the printed {fit.column} column by half a "
+                f"the change of {fit.whats[0]} that moves the printed {fit.column} column by half a "
                 f"unit of its last digit (rms): a fit cannot tell values closer than that")
         if self.kind == "rule":
             return 0.0, RULE
@@ -329,62 +362,138 @@ FIT_FIELDS = {"column", "parameter", "python", "stated", "what", "range", "unit"
 
 @dataclass
 class TableFit:
-    """Which value of one input a printed column follows: the least-squares fit of
+    """Which values of its inputs a printed column follows: the least-squares fit of
     ``python`` (the column as a function of ``parameter``, the table's inputs and its
-    row input) to the printed entries, each weighted by half a unit of its last
-    printed digit, searched over ``range``; ``stated`` is the value the document's
-    own inputs give."""
+    row input) to the printed entries, each weighted by its last printed digit,
+    searched over ``range``; ``stated`` is what the document's own inputs give.
+
+    ``parameter`` is one name or a list of names (then ``what``, ``stated``, ``range``
+    and ``unit`` are lists of the same length): several parameters are fitted
+    together — a grid search on each in turn from the stated values, then
+    Gauss–Newton steps on all of them — because a column that scales with one input
+    and bends with another (v with ω1 and λ) fits neither alone."""
     column: str
-    parameter: str
+    parameter: str | list
     python: str
-    stated: str
-    what: str
+    stated: str | list
+    what: str | list
     range: list
-    unit: str = "-"
+    unit: str | list = "-"
     rows: list = field(default_factory=list)         # the row input's values
     row: str = ""                                     # the row input's name
     printed: list = field(default_factory=list)      # the column's printed texts
     inputs: dict = field(default_factory=dict)       # the table's inputs
+    let: dict = field(default_factory=dict)          # the table's named expressions
 
-    def column_for(self, value):
-        names = dict(self.inputs, **{self.row: np.asarray(self.rows, float),
-                                     self.parameter: value})
-        return np.asarray(eval(self.python, NUMPY_HELPERS, names), float)  # noqa: S307
+    def __post_init__(self):
+        many = isinstance(self.parameter, list)
+        self.names = list(self.parameter) if many else [self.parameter]
+        self.whats = list(self.what) if many else [self.what]
+        self.stateds = list(self.stated) if many else [self.stated]
+        self.ranges = [list(map(float, r)) for r in self.range] if many else \
+            [list(map(float, self.range))]
+        self.units = (list(self.unit) if isinstance(self.unit, list)
+                      else [self.unit] * len(self.names))
+        lengths = {len(x) for x in (self.names, self.whats, self.stateds, self.ranges,
+                                    self.units)}
+        if lengths != {len(self.names)} or any(len(r) != 2 for r in self.ranges):
+            raise ValueError(f"fit of column {self.column!r}: parameter, what, stated, "
+                             f"range (a [low, high] each) and unit must match in length")
+        self.code = compile(self.python, f"<fit of {self.column}>", "eval")
+
+    def column_for(self, point):
+        names = Names(dict(self.inputs, **{self.row: np.asarray(self.rows, float)},
+                           **dict(zip(self.names, np.atleast_1d(point)))),
+                      self.let, NUMPY_HELPERS)
+        return np.asarray(eval(self.code, NUMPY_HELPERS, names), float)  # noqa: S307
 
     @lru_cache(maxsize=None)
     def result(self):
-        """{fitted, stated, rms (in units of the last printed digit), uncertainty}."""
+        """{fitted, stated, uncertainty} of the first parameter, {values, stated_values,
+        uncertainties} of all by name, and rms (in units of the last printed digit) at
+        the fit and at the stated values."""
         values = np.array([printed_value(t) for t in self.printed])
-        half = np.array([0.5 * 10.0 ** -_decimals(t) for t in self.printed])
+        digit = np.array([10.0 ** -_decimals(t) for t in self.printed])
 
-        def misfit(value):
-            return float(np.sqrt(np.mean(((self.column_for(value) - values) / half) ** 2)))
-        low, high = map(float, self.range)
-        grid = np.linspace(low, high, 2001)
-        best = grid[int(np.argmin([misfit(g) for g in grid]))]
-        step = (high - low) / 2000
-        a, b = max(low, best - step), min(high, best + step)
-        ratio = (math.sqrt(5) - 1) / 2
-        for _ in range(80):                          # golden section on the bracket
-            c, d = b - ratio * (b - a), a + ratio * (b - a)
-            a, b = (a, d) if misfit(c) < misfit(d) else (c, b)
-        fitted = (a + b) / 2
-        delta = 1e-6 * max(abs(fitted), 1.0)
-        slope = (self.column_for(fitted + delta) - self.column_for(fitted - delta)) / (2 * delta)
-        sensitivity = float(np.sqrt(np.mean((slope / half) ** 2)))
-        stated = float(eval(self.stated, HELPERS, dict(self.inputs)))  # noqa: S307
-        return {"fitted": fitted, "stated": stated, "rms": misfit(fitted),
-                "rms_stated": misfit(stated),
-                "uncertainty": 1.0 / sensitivity if sensitivity else math.inf}
+        def misfit(point):
+            return float(np.sqrt(np.mean(((self.column_for(point) - values) / digit) ** 2)))
+
+        stated = np.array([float(eval(text, HELPERS, dict(self.inputs)))  # noqa: S307
+                           for text in self.stateds])
+        point = np.clip(stated, *np.array(self.ranges).T)
+        for i, (low, high) in enumerate(self.ranges):
+            point[i] = self._line_search(misfit, point, i, low, high)
+        if len(point) > 1:
+            point = self._gauss_newton(values, digit, point, misfit)
+        slopes = self._slopes(point)
+        # the change of each parameter that moves the column by half a unit of its last
+        # digit (rms): a fit cannot tell values closer than that
+        uncertainty = [1.0 / s if s else math.inf for s in
+                       (float(np.sqrt(np.mean((slope / (digit / 2)) ** 2))) for slope in slopes)]
+        return {"fitted": float(point[0]), "stated": float(stated[0]),
+                "values": dict(zip(self.names, map(float, point))),
+                "stated_values": dict(zip(self.names, map(float, stated))),
+                "rms": misfit(point), "rms_stated": misfit(stated),
+                "uncertainty": uncertainty[0],
+                "uncertainties": dict(zip(self.names, uncertainty))}
 
     __hash__ = object.__hash__
 
+    @staticmethod
+    def _line_search(misfit, point, i, low, high):
+        """The best value of parameter i, the others held: a grid, then golden section
+        on the grid step around its best."""
+        def at(value):
+            return misfit(np.concatenate([point[:i], [value], point[i + 1:]]))
+        grid = np.linspace(low, high, 2001)
+        best = grid[int(np.argmin([at(g) for g in grid]))]
+        step = (high - low) / 2000
+        a, b = max(low, best - step), min(high, best + step)
+        ratio = (math.sqrt(5) - 1) / 2
+        for _ in range(80):
+            c, d = b - ratio * (b - a), a + ratio * (b - a)
+            a, b = (a, d) if at(c) < at(d) else (c, b)
+        return (a + b) / 2
+
+    def _slopes(self, point):
+        out = []
+        for i in range(len(point)):
+            delta = 1e-6 * max(abs(point[i]), 1.0)
+            up, down = point.copy(), point.copy()
+            up[i] += delta
+            down[i] -= delta
+            out.append((self.column_for(up) - self.column_for(down)) / (2 * delta))
+        return out
+
+    def _gauss_newton(self, values, digit, point, misfit):
+        """Joint refinement of several parameters (weighted least squares), kept in
+        their ranges; a step that lowers the misfit by no halving ends it."""
+        low, high = np.array(self.ranges).T
+        for _ in range(50):
+            residual = (self.column_for(point) - values) / digit
+            jacobian = np.array(self._slopes(point)).T / digit[:, None]
+            step = np.linalg.lstsq(jacobian, -residual, rcond=None)[0]
+            for _ in range(30):                      # halve a step that overshoots
+                trial = np.clip(point + step, low, high)
+                if misfit(trial) < misfit(point):
+                    break
+                step = step / 2
+            else:
+                return point
+            point = trial
+        return point
+
     def sentence(self):
         r = self.result()
-        return (f"the {self.column} column follows {self.what} = {shown(r['fitted'], '.4g')} "
-                f"(the document's own inputs give {shown(r['stated'], '.4g')}), with an rms "
-                f"residual of {shown(r['rms'], '.2g')} units of its last printed digit "
-                f"({shown(r['rms_stated'], '.3g')} with the stated value)")
+        fitted = " and ".join(f"{what} = {shown(r['values'][name], '.4g')} "
+                              f"(± {shown(r['uncertainties'][name], '.2g')})"
+                              for what, name in zip(self.whats, self.names))
+        stated = " and ".join(shown(r["stated_values"][name], ".4g") for name in self.names)
+        values = "value" if len(self.names) == 1 else "values"
+        return (f"the {self.column} column follows {fitted} (the document's own inputs "
+                f"give {stated}), with an rms residual of {shown(r['rms'], '.2g')} units of "
+                f"its last printed digit ({shown(r['rms_stated'], '.3g')} with the stated "
+                f"{values})")
 
 
 def _decimals(text):
@@ -586,7 +695,7 @@ def document_names():
 
 
 TABLE_FIELDS = {"key", "section", "line", "claim", "row", "rows", "inputs", "column", "note",
-                "fit", "row_offsets", "quote", "offset"}
+                "fit", "row_offsets", "quote", "offset", "let"}
 COLUMN_FIELDS = {"key", "label", "unit", "values", "python", "formula", "derived", "kind",
                  "tolerance", "tolerance_reason", "note", "model", "other", "other_line",
                  "quotes", "offsets"}
@@ -623,6 +732,7 @@ def _table_claims(name, table):
                 unit=column["unit"], reported=printed_value(value) if printed else float(value),
                 printed=printed, kind=column.get("kind", "value"),
                 inputs={**table.get("inputs", {}), table["row"]: float(row)},
+                let=dict(table.get("let", {})),
                 python=column["python"], note=column.get("note", table.get("note", "")),
                 quote=printed or "", offset=offset, **extra))
     return out
@@ -641,18 +751,24 @@ def _table_fit(name, table, where):
         if entry.get("column") not in columns:
             raise ValueError(f"{where}: fit names no column of the table: {entry.get('column')!r}")
         column = columns[entry["column"]]
-        fits.append(TableFit(**entry, rows=list(table["rows"]), row=table["row"],
-                             printed=[v if isinstance(v, str) else repr(float(v))
-                                      for v in column["values"]],
-                             inputs=dict(table.get("inputs", {}))))
+        try:
+            fits.append(TableFit(**entry, rows=list(table["rows"]), row=table["row"],
+                                 printed=[v if isinstance(v, str) else repr(float(v))
+                                          for v in column["values"]],
+                                 inputs=dict(table.get("inputs", {})),
+                                 let=dict(table.get("let", {}))))
+        except (TypeError, ValueError) as error:
+            raise ValueError(f"{where}: {error}") from None
     head = fits[0]
     return [Claim(key=f"{table['key']}_fit", section=table["section"], line=table["line"],
                   quote=table.get("quote", ""), offset=table.get("offset"),
-                  claim=f"the printed table as a whole: which {head.what} its columns follow",
-                  unit=head.unit, kind="value", inputs=dict(table.get("inputs", {})),
-                  python=head.stated, fits=fits,
-                  derived={"what": f"{head.what} the printed {head.column} column follows "
-                                   f"(least squares)", "python": "0", "unit": head.unit})]
+                  claim=f"the printed table as a whole: {head.whats[0]} its columns follow",
+                  unit=head.units[0], kind="value", inputs=dict(table.get("inputs", {})),
+                  let=dict(table.get("let", {})),
+                  python=head.stateds[0], fits=fits,
+                  derived={"what": f"{head.whats[0]} the printed {head.column} column "
+                                   f"follows (least squares)", "python": "0",
+                           "unit": head.units[0]})]
 
 
 def load(name):
