@@ -638,6 +638,29 @@ def test_an_inserted_note_row_and_a_second_revolution_typed_from_zero(pack, tmp_
     assert "第二转" in feedback and "插入或删除了" in feedback
 
 
+def test_a_column_of_zeros_gets_one_note_per_slip_and_a_readable_lms_text(pack, tmp_path):
+    """Zeros typed everywhere: one note for A0 given fifteen times (not fourteen), one
+    for the missing positions; the LMS text stays within its limit, cut between
+    sentences; a small typed number is shown as typed, not rounded to 0."""
+    answers = {k: [0.0] * len(v) if isinstance(v, list) else 0.0
+               for k, v in key_answers(pack, "s06").items()}
+    answers["pos_balancing_torque"] = [v / 1000 for v in key_answers(pack, "s06")
+                                       ["pos_balancing_torque"]]           # in kN·m
+    row, feedback = _grade_one(pack, tmp_path, "s06", answers)
+    assert feedback.count("填了 15 次") == 2 and "填了两次" not in feedback   # A0 and A0′
+    assert feedback.count("缺少位置") == 1
+    torque = ASSIGNMENT.item["pos_balancing_torque"]
+    small = next(v for v in answers["pos_balancing_torque"]
+                 if 0 < abs(v) < 10 ** -(math.ceil(-math.log10(torque.abs_floor)) + 1))
+    assert f"{small:.4g}" in feedback
+    done = run_cli("grade", pack, tmp_path / "sub", "--lms", "xuexitong", "-o", tmp_path / "x")
+    assert done.returncode == 0, done.stderr
+    sheet = openpyxl.load_workbook(tmp_path / "x" / "xuexitong-import.xlsx").active
+    text = next(r[3] for r in sheet.iter_rows(values_only=True) if r[0] == "s06")
+    assert len(text) <= 2000 and text.endswith(" （其余从略）")       # 学习通's limit
+    assert text[:-len(" （其余从略）")].endswith(("……", "）"))           # between sentences
+
+
 def test_a_resubmission_round_loses_nothing(graded, pack, tmp_path):
     second = tmp_path / "round2"
     fill(pack / "students" / "s04.xlsx", second / "s04.xlsx", graded["perfect"]["s04"])

@@ -135,7 +135,7 @@ def _write_xuexitong(directory, assignment, lang, grades, mode, missing_as_zero)
         value = _grade_value(g, missing_as_zero)
         if value != "":
             ws.write_number(row, 2, float(value))
-        ws.write_string(row, 3, lms_text(g, assignment, lang, mode)[:2000], text)
+        ws.write_string(row, 3, lms_text(g, assignment, lang, mode, limit=2000), text)
     ws.set_column(0, 0, 16, text)
     ws.set_column(1, 1, 12)
     ws.set_column(3, 3, 80)

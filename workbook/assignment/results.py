@@ -62,12 +62,15 @@ def say(w, word, **fields):
     for name in ("rule", "what"):
         if name in fields:
             fields = dict(fields, **{name: w.get(fields[name], fields[name])})
+    fields = {name: w["list"].join(map(str, value)) if isinstance(value, list) else value
+              for name, value in fields.items()}
     return text.format(**fields)
 
 
-def shown(value, item=None):
+def shown(value, item=None, typed=False):
     """A number as a person reads it: rounded to the item's precision (a digit finer
-    than its absolute floor), 0 as 0, no float noise."""
+    than its absolute floor), 0 as 0, no float noise; a student's ``typed`` number
+    keeps at least four significant digits (0.0362 typed for 36.2 is not "0")."""
     if value is None or value == "":
         return "—"
     if not isinstance(value, (int, float)):
@@ -76,6 +79,8 @@ def shown(value, item=None):
         return "—"
     floor = getattr(item, "abs_floor", 0.0) or 0.0
     decimals = max(0, math.ceil(-math.log10(floor)) + 1) if floor > 0 else 6
+    if typed and value:
+        decimals = min(12, max(decimals, 3 - math.floor(math.log10(abs(value)))))
     text = f"{value:.{decimals}f}"
     if "." in text:
         text = text.rstrip("0").rstrip(".")
@@ -198,18 +203,20 @@ def _item_summary(g, assignment, lang, mode):
             label = cell.label or w["scalar_row"]
             reason = say(w, cell.reason, **cell.detail)
             if mode == "full":
-                details.append(say(w, "cell_full", label=label, value=shown(cell.value, item),
+                details.append(say(w, "cell_full", label=label,
+                                   value=shown(cell.value, item, typed=True),
                                    expected=shown(cell.expected, item), reason=reason))
             else:
-                details.append(say(w, "cell_hint", label=label, value=shown(cell.value, item),
-                                   reason=reason))
+                details.append(say(w, "cell_hint", label=label,
+                                   value=shown(cell.value, item, typed=True), reason=reason))
         lines.append((head, details))
     return lines
 
 
-def lms_text(g, assignment, lang, mode):
+def lms_text(g, assignment, lang, mode, limit=4000):
     """The LMS's feedback field: self-contained text in the class's language (an LMS
-    has no feedback files), nothing about other students."""
+    has no feedback files), nothing about other students; at most ``limit``
+    characters, cut between sentences (never inside a number) and marked as cut."""
     w = words(lang)
     if g.status == "missing":
         return say(w, "lms_missing")
@@ -221,7 +228,20 @@ def lms_text(g, assignment, lang, mode):
         if details or mode == "score-only":
             parts.append(head + (w["colon"] + w["separator"].join(details[:6]) +
                                  (w["more"] if len(details) > 6 else "") if details else ""))
-    return " ".join(parts)[:4000]
+    return _clipped(parts, limit, w["lms_cut"])
+
+
+def _clipped(parts, limit, more):
+    """``parts`` joined by spaces, as many whole parts as fit with ``more`` after them."""
+    text = " ".join(parts)
+    if len(text) <= limit:
+        return text
+    kept = parts[0][:limit - len(more)]
+    for part in parts[1:]:
+        if len(kept) + 1 + len(part) + len(more) > limit:
+            break
+        kept += " " + part
+    return kept + more
 
 
 def feedback_text(g, assignment, lang, mode):
@@ -258,11 +278,11 @@ def feedback_text(g, assignment, lang, mode):
             label = cell.label or w["scalar_row"]
             reason = say(w, cell.reason, **cell.detail)
             if mode == "full":
-                lines.append(f"| {label} | {shown(cell.value, item)} | "
+                lines.append(f"| {label} | {shown(cell.value, item, typed=True)} | "
                              f"{shown(cell.expected, item)} | {cell.fraction:.0%} | {reason} |")
             else:
-                lines.append(f"| {label} | {shown(cell.value, item)} | {cell.fraction:.0%} | "
-                             f"{reason} |")
+                lines.append(f"| {label} | {shown(cell.value, item, typed=True)} | "
+                             f"{cell.fraction:.0%} | {reason} |")
         lines.append("")
     return "\n".join(lines) + "\n"
 

@@ -219,7 +219,40 @@ def pair_positions(angles, key_angles, labels, tolerance, own_angles=None, row_l
     for position, label in enumerate(labels):
         if position not in taken:
             problems.append(("position_missing", {"label": label}))
-    return Pairing(chosen, problems, meant)
+    return Pairing(chosen, _grouped(problems), meant)
+
+
+def _grouped(problems):
+    """One note per kind where a student repeats a slip row after row (a column of
+    zeros gives 28 "given twice" notes): the rows or labels listed in one."""
+    twice, missing, second = {}, [], []
+    for word, fields in problems:
+        if word == "position_twice":
+            twice.setdefault(fields["label"], []).append(fields)
+        elif word == "position_missing":
+            missing.append(fields["label"])
+        elif word == "second_revolution":
+            second.append(fields)
+    out, done = [], set()
+    for word, fields in problems:
+        if word == "position_twice" and len(twice[fields["label"]]) > 1:
+            if fields["label"] not in done:
+                done.add(fields["label"])
+                rows = twice[fields["label"]]
+                out.append(("position_repeated", {
+                    "label": fields["label"], "first": rows[0]["first"],
+                    "count": len(rows) + 1, "rows": [f["second"] for f in rows]}))
+        elif word == "position_missing" and len(missing) > 1:
+            if word not in done:
+                done.add(word)
+                out.append(("positions_missing", {"labels": missing}))
+        elif word == "second_revolution" and len(second) > 1:
+            if word not in done:
+                done.add(word)
+                out.append(("second_revolutions", {"labels": [f["label"] for f in second]}))
+        else:
+            out.append((word, fields))
+    return out
 
 
 def _row_label(row, row_labels, labels):
