@@ -17,7 +17,7 @@ from crankbook.reading import recalc
 from crankbook.spec.loader import load as load_spec
 from crankbook.support.toml_files import names_in
 from crankbook.writer.charts import FRAME_LABEL, frame_values
-from tests.conftest import ROOT, named
+from tests.conftest import ROOT, named, run_cli
 
 pytestmark = pytest.mark.libreoffice
 PRESETS = names_in("presets")
@@ -70,22 +70,53 @@ def _placed_words(pdf):
     return pages
 
 
+def _overlaps(pdf):
+    """(page, word, word) of every two words on a page that overlap by more than a
+    quarter of the smaller."""
+    found = []
+    for page, words in _placed_words(pdf).items():
+        words.sort()
+        for i, a in enumerate(words):
+            for b in words[i + 1:]:
+                if b[0] >= a[2]:
+                    break
+                dx = min(a[2], b[2]) - max(a[0], b[0])
+                dy = min(a[3], b[3]) - max(a[1], b[1])
+                smaller = min((a[2] - a[0]) * (a[3] - a[1]), (b[2] - b[0]) * (b[3] - b[1]))
+                if dx > 0 and dy > 0 and dx * dy > smaller / 4:
+                    found.append((page, a[4], b[4]))
+    return found
+
+
 def test_no_text_runs_into_other_text(rendered):
     """A row too low for its wrapped text, a title cut by a page break or a header
-    taller than its row prints words over words: no two words on a page may overlap
-    by more than a quarter of the smaller."""
+    taller than its row prints words over words."""
     for key, (_, pdf) in rendered.items():
-        for page, words in _placed_words(pdf).items():
-            words.sort()
-            for i, a in enumerate(words):
-                for b in words[i + 1:]:
-                    if b[0] >= a[2]:
-                        break
-                    dx = min(a[2], b[2]) - max(a[0], b[0])
-                    dy = min(a[3], b[3]) - max(a[1], b[1])
-                    smaller = min((a[2] - a[0]) * (a[3] - a[1]), (b[2] - b[0]) * (b[3] - b[1]))
-                    assert not (dx > 0 and dy > 0 and dx * dy > smaller / 4), \
-                        (key, page, a[4], b[4])
+        assert not _overlaps(pdf), (key, _overlaps(pdf)[:3])
+
+
+def test_the_audit_prints_what_an_auditor_signs(tmp_path, soffice):
+    """The audit workbook: every row as tall as its text (the seeds' garbled quotes
+    included), the signed columns — key to note — across one page at a readable
+    scale, the explanations after them."""
+    book = tmp_path / "audit.xlsx"
+    done = run_cli("audit", "all", "-q", "-o", book)
+    assert done.returncode == 0, done.stderr
+    pdf = recalc.convert([book], tmp_path / "pdf", target="pdf")[0]
+    assert not _overlaps(pdf), _overlaps(pdf)[:3]
+    pages = _pages(pdf)
+    assert not any("###" in page for page in pages)
+    signed = [page for page in pages if re.search(r"^\s*key\s+claim\s+quote", page, re.M)]
+    assert signed and all("note" in page for page in signed)
+    assert any(re.search(r"^\s*key\s+section\s+line\s+derived", page, re.M) for page in pages)
+    scales = {int(s) for s in re.findall(r'scale="(\d+)"', _sheet_xml(book, "thesis"))}
+    assert scales and min(scales) >= 65                  # 10-point text at 6.5 points
+
+
+def _sheet_xml(book, name):
+    with zipfile.ZipFile(book) as z:
+        sheets = openpyxl.load_workbook(book, read_only=True).sheetnames
+        return z.read(f"xl/worksheets/sheet{sheets.index(name) + 1}.xml").decode()
 
 
 def readme_page_counts():

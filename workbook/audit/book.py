@@ -14,17 +14,23 @@ import xlsxwriter
 from xlsxwriter.utility import xl_col_to_name
 
 from crankbook.support.atomic import atomic_path
-from crankbook.audit.claims import INPUT, STATUS_OF_KIND, VERDICTS, coverage, shown
+from crankbook.audit.claims import (FORMULA_AGREEMENT, INPUT, NOISE_FLOOR, STATUS_OF_KIND,
+                                    VERDICTS, coverage, shown)
 from crankbook.writer.build import FIXED_TIME
+from crankbook.writer.print_setup import A4, line_height, text_lines
 from crankbook.writer.styles import Styles
 
-# (label, width in characters, wrapped)
-COLUMNS = [("key", 14, False), ("section", 9, True), ("line", 5, False),
-           ("claim", 34, True), ("quote (line, offset)", 22, True), ("reported", 10, False),
-           ("unit", 6, False), ("derived", 10, False), ("derived: what", 18, True),
-           ("recomputed", 12, False), ("deviation", 10, False), ("deviation %", 8, False),
-           ("tolerance", 9, False), ("verdict", 12, True), ("tolerance: why", 20, True),
-           ("margin %", 7, False), ("kind", 9, False), ("basis", 28, True), ("note", 40, True)]
+# (label, width in characters, wrapped).  The columns an auditor signs come first and
+# print as one document (the key repeated on every page); the explanations follow on
+# pages of their own after it.
+SIGNED = [("key", 22, True), ("claim", 32, True),
+          ("quote (line, offset)", 20, True), ("reported", 10, False), ("unit", 6, False),
+          ("recomputed", 12, False), ("deviation", 11, False), ("deviation %", 9, False),
+          ("tolerance", 9, False), ("verdict", 12, True), ("note", 40, True)]
+EXPLAINED = [("section", 9, True), ("line", 5, False), ("derived", 12, False), ("derived: what", 18, True),
+             ("tolerance: why", 20, True), ("margin %", 9, False), ("kind", 9, False),
+             ("basis", 28, True)]
+COLUMNS = SIGNED + EXPLAINED
 COL = {label: i for i, (label, _, _) in enumerate(COLUMNS)}
 INPUTS_AT = len(COLUMNS)            # input name/value pairs start in this column
 STATUSES = list(VERDICTS)
@@ -36,7 +42,6 @@ FINDING_FIELDS = ["document", "key", "section", "line", "offset", "quote", "clai
                   "deviation", "deviation_percent", "margin_percent", "other", "other_line",
                   "model", "missing", "note"]
 HEADER_ROW = 3
-LINE_HEIGHT = 12.75                  # points per wrapped line (10-point Arial)
 NO_SOURCES = ("the seed texts were not given (--sources DIR or $CRANKBOOK_SEEDS): the "
               "numbers of the audited sections cannot be counted")
 
@@ -176,7 +181,8 @@ class _Formats:
         self.centred = book.add_format({"font_name": "Arial", "font_size": 10, "valign": "top",
                                         "align": "center"})
         self.key = book.add_format({"font_name": "Consolas", "font_size": 10,
-                                    "font_color": "#1F3864", "valign": "top"})
+                                    "font_color": "#1F3864", "valign": "top",
+                                    "text_wrap": True})
         self.percent = book.add_format({"font_name": "Arial", "font_size": 10,
                                         "num_format": "0.###%", "valign": "top"})
         self.margin = book.add_format({"font_name": "Arial", "font_size": 10,
@@ -205,6 +211,8 @@ def _write_book(documents, filename, sources=None):
     book = xlsxwriter.Workbook(filename)
     book.set_properties({"title": "crankbook audit", "author": "crankbook",
                          "created": FIXED_TIME})
+    book.formats[0].set_font_name("Arial")        # the width of a column's character
+    book.formats[0].set_font_size(10)              # is the Normal style's
     formats = _Formats(book)
     summary = book.add_worksheet("Summary")
     status_formats = {s: book.add_format({"bg_color": c}) for s, c in COLOURS.items()}
@@ -228,6 +236,8 @@ def _write_summary(book, ws, documents, names, formats, status_formats, sources)
     ws.write(HEADER_ROW, total_col, "total", styles.header)
     ws.set_column(0, 0, 18)
     ws.set_column(1, total_col, 13)
+    ws.set_row(HEADER_ROW, line_height() * max(text_lines(status, 13, bold=True)
+                                               for status in STATUSES) + 1.5)
     verdict_col = xl_col_to_name(COL["verdict"])
     for row, document in enumerate(documents, start=HEADER_ROW + 1):
         name = names[document.key]
@@ -270,22 +280,10 @@ def _write_summary(book, ws, documents, names, formats, status_formats, sources)
             if text.startswith("Claims per section"):
                 ws.write(row, 0, document.key, formats.plain)
             ws.merge_range(row, 1, row, total_col + 3, text.lstrip("- "), formats.wrap)
-            ws.set_row(row, LINE_HEIGHT * _lines(text, 100))
-    ws.set_paper(9)
+            ws.set_row(row, line_height() * text_lines(text, 100) + 1.5)
+    ws.set_paper(A4)
     ws.set_landscape()
     ws.fit_to_pages(1, 0)
-
-
-def _width(text):
-    """Display width in characters: CJK characters take two."""
-    return sum(1.8 if ord(ch) > 0x2E7F else 1 for ch in str(text))
-
-
-def _lines(text, width):
-    """Wrapped lines of ``text`` in a column ``width`` characters wide."""
-    per_line = max(width * 1.15, 1)      # text is narrower than the '0' a width counts
-    return max(1, sum(math.ceil(max(_width(part), 1) / per_line)
-                      for part in str(text).split("\n")))
 
 
 def _write_document_sheet(book, document, name, formats, status_formats):
@@ -298,6 +296,8 @@ def _write_document_sheet(book, document, name, formats, status_formats):
     for col, (label, width, _) in enumerate(COLUMNS):
         ws.write(HEADER_ROW, col, label, styles.header)
         ws.set_column(col, col, width)
+    ws.set_row(HEADER_ROW, line_height() * max(text_lines(label, width, bold=True)
+                                               for label, width, _ in COLUMNS) + 1.5)
     ws.write(HEADER_ROW, INPUTS_AT, "inputs (name, value, …)", styles.header)
     ws.set_column(INPUTS_AT, INPUTS_AT + 16, 11)
     for row, (claim, finding) in enumerate(zip(document.claims, document.findings()),
@@ -310,12 +310,23 @@ def _write_document_sheet(book, document, name, formats, status_formats):
                                "format": fmt})
     ws.freeze_panes(HEADER_ROW + 1, 3)
     ws.autofilter(HEADER_ROW, 0, last, len(COLUMNS) - 1)
+    _page_setup(ws, last)
+
+
+def _page_setup(ws, last):
+    """A4 landscape: the signed columns across one page at the scale that fits them,
+    all of their pages first, then the explanations (a fixed scale, because Excel
+    ignores a page break under fit-to-page)."""
     ws.repeat_rows(HEADER_ROW)
+    ws.repeat_columns(COL["key"])
     ws.print_area(0, 0, last, len(COLUMNS) - 1)
-    ws.set_paper(9)
+    ws.set_paper(A4)
     ws.set_landscape()
     ws.set_margins(left=0.4, right=0.4, top=0.5, bottom=0.5)
-    ws.fit_to_pages(1, 0)
+    ws.set_v_pagebreaks([len(SIGNED)])
+    # LibreOffice draws a character of Arial 10 eight pixels wide (Excel seven)
+    room = (842 - 2 * 0.4 * 72) * 4 / 3
+    ws.set_print_scale(min(100, int(100 * room / sum(8 * w + 5 for _, w, _ in SIGNED))))
     ws.set_footer("&L&A&R&P / &N")
 
 
@@ -365,7 +376,8 @@ def _write_claim_row(ws, row, claim, finding, formats):
                          formats.number(shown_digits), finding["deviation"])
         if finding["deviation_percent"] is not None:
             ws.write_formula(row, COL["deviation %"],
-                             f'=IF({rec}=0,"",({compared_cell}-{rec})/{rec}*100)',
+                             f'=IF(ABS({rec})<={FORMULA_AGREEMENT:G}*ABS({compared_cell})'
+                             f'+{NOISE_FLOOR:G},"",({compared_cell}-{rec})/{rec}*100)',
                              formats.margin, finding["deviation_percent"])
     differs = STATUS_OF_KIND.get(claim.kind, "unverifiable")
     ws.write_number(row, COL["tolerance"], finding["tolerance"], formats.general)
@@ -383,12 +395,12 @@ def _write_claim_row(ws, row, claim, finding, formats):
     ws.write(row, COL["kind"], claim.kind, formats.plain)
     ws.write(row, COL["basis"], _basis(finding), formats.wrap)
     ws.write(row, COL["note"], finding["note"], formats.wrap)
-    texts = {"section": claim.section, "claim": claim.claim,
+    texts = {"key": claim.key, "section": claim.section, "claim": claim.claim,
              "quote (line, offset)": _quote(finding),
              "derived: what": finding["derived_what"], "basis": _basis(finding),
              "tolerance: why": finding["tolerance_reason"], "note": finding["note"]}
-    height = max(_lines(text, COLUMNS[COL[label]][1]) for label, text in texts.items())
-    ws.set_row(row, LINE_HEIGHT * height + 2)
+    height = max(text_lines(text, COLUMNS[COL[label]][1]) for label, text in texts.items())
+    ws.set_row(row, line_height() * height + 1.5)
 
 
 def decimals_of_value(value):

@@ -230,8 +230,7 @@ class Claim:
                    line=self.line, other_line=self.other_line)
         if compared is not None and recomputed is not None:
             out["deviation"] = compared - recomputed
-            out["deviation_percent"] = (compared - recomputed) / recomputed * 100 \
-                if recomputed else None
+            out["deviation_percent"] = deviation_percent(compared, recomputed)
             tolerance = self.tolerance_used(recomputed)[0]
             out["tolerance"] = tolerance
             decimals = self.printed_decimals()
@@ -352,6 +351,14 @@ class Claim:
                 not recomputed or self.within(recomputed):
             return None
         return (self.compared() - recomputed) / abs(recomputed) * 100
+
+
+def deviation_percent(compared, recomputed):
+    """(compared − recomputed)/recomputed in %, or None where the recomputation is 0 to
+    rounding (a percentage of floating-point noise means nothing)."""
+    if abs(recomputed) <= FORMULA_AGREEMENT * abs(compared) + NOISE_FLOOR:
+        return None
+    return (compared - recomputed) / recomputed * 100
 
 
 NUMPY_HELPERS = {**HELPERS, "sin": np.sin, "cos": np.cos, "tan": np.tan, "asin": np.arcsin,
@@ -548,8 +555,8 @@ class Document:
                         "recomputed_display": recomputed_display,
                         "deviation": deviation,
                         # relative to the value: −1.8 % is 1.8 % smaller in magnitude
-                        "deviation_percent": deviation / recomputed * 100
-                        if deviation is not None and recomputed else None})
+                        "deviation_percent": deviation_percent(claim.compared(), recomputed)
+                        if deviation is not None else None})
         return out
 
 

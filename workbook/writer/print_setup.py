@@ -25,8 +25,11 @@ def text_lines(text, width, size=10, bold=False):
 
 
 def _glyphs_width(text):
-    """Characters of column ``text`` takes at Arial 10 (see ``text_lines``)."""
-    return sum(1.7 if ord(ch) > 0x2E7F else 0.85 if ord(ch) < 0x80 else 1.0 for ch in text)
+    """Characters of column ``text`` takes at Arial 10 (see ``text_lines``); the
+    supplemental mathematical operators (⨯ in the seeds' extracted formulas) come from
+    a wide fallback font, as wide as a CJK glyph."""
+    return sum(1.7 if ord(ch) > 0x2E7F or 0x2A00 <= ord(ch) <= 0x2AFF
+               else 0.85 if ord(ch) < 0x80 else 1.0 for ch in text)
 
 
 def _wrapped_lines(line, room, scale):
