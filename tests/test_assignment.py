@@ -354,6 +354,9 @@ def test_the_statement_and_the_key_agree_on_the_resisting_torque(graded, pack):
     (0.0, 0.0, "N·m", 5.0, "correct"),                   # … but right where the key is 0
     (4.763, -139.05, "N·m", 5.0, "wrong"),               # judged in the item's unit
     (4.0e6, 4000.0, "N·m", 5.0, "unit_slip"),            # N·mm, the textbooks' unit
+    (1.3754, 1375.4, "N·m", 5.0, "unit_slip"),           # kN·m: small, yet no zero
+    (0.02216, 22.16, "mm", 0.05, "unit_slip"),           # metres for a short stroke
+    (0.001, 22.16, "mm", 0.05, "wrong"),
     (-1.3905e5, -139.05, "N·m", 5.0, "unit_slip"),
     (25.3e6, 25.3, "kg·m²", 0.5, "unit_slip"),           # kg·mm²
     (2.53e5, 25.3, "kg·m²", 0.5, "unit_slip"),           # kg·cm²

@@ -101,8 +101,8 @@ def _right(number, targets, item):
 def score_cell(label, value, expected, item, rubric, alternatives=(), consequential=()):
     """One answer cell against the key.  Slips are judged in the item's own unit: the
     answer is converted back (value / factor) and must meet the item's tolerance and
-    floor; an answer that is zero (within the floor) never earns slip credit — it is
-    right only where the key itself is zero.  ``consequential``: the values (the
+    floor; an answer that is zero (within the floor, once converted back) never earns
+    slip credit — it is right only where the key itself is zero.  ``consequential``: the values (the
     student's own mechanism's, and its alternatives) that earn consequential credit."""
     number, typed = read_answer(value)
     if number is None:
@@ -127,9 +127,11 @@ def score_cell(label, value, expected, item, rubric, alternatives=(), consequent
         return CellResult(label, value, expected, 1.0, "alternative", {})
     zero = abs(number) <= floor
     clearly = abs(expected) > CLEARLY_NOT_ZERO * floor
-    if "unit" in item.slips and clearly and not zero:
+    if "unit" in item.slips and clearly:
         for other, factor in unit_slips(item.unit):
-            if _within(number / factor, expected, tol, floor):
+            # zero is judged after converting back: 0.0222 m for 22.2 mm is no zero
+            converted = number / factor
+            if abs(converted) > floor and _within(converted, expected, tol, floor):
                 return CellResult(label, value, expected, fraction, "unit_slip", {"unit": other})
     if "sign" in item.slips and clearly and not zero and _within(-number, expected, tol, floor):
         return CellResult(label, value, expected, rubric["sign_slip"]["fraction"],
