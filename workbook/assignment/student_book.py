@@ -1,7 +1,6 @@
 """The student's workbook: the task, their parameters (p_), the given data, and
 empty answer blocks (a_) laid out like the guide's tables.  No formulas, no
 results: nothing the key computes is anywhere in the file."""
-import math
 import unicodedata
 
 from crankbook.writer.fast_sheet import FastWorkbook
@@ -11,13 +10,15 @@ from crankbook.support.atomic import atomic_path
 from crankbook.spec.formulas import quote_sheet
 from crankbook.writer.build import FIXED_TIME, PROPERTY_ASSIGNMENT, PROPERTY_ROLE, PROPERTY_TEMPLATE
 from crankbook.writer.layout import unit_text
-from crankbook.writer.print_setup import landscape_page
+from crankbook.writer.print_setup import landscape_page, line_height, text_lines
 from crankbook.writer.styles import Styles
 
 TASK = {"zh": "任务", "en": "Task"}
 GIVEN = {"zh": "已知数据", "en": "Given data"}
 TASK_WIDTHS = [30, 16, 9, 48, 48]
-POINTS_PER_LINE = 14.5
+GIVEN_WIDTH = 24
+PRINT_BLOCKS, PRINT_WIDTH = 6, 9         # the given pressure prints in six column pairs
+LABEL_WIDTH, ANSWER_WIDTH = 26, 20       # an answer sheet's row labels and answer columns
 
 
 def both(zh, en, lang):
@@ -29,11 +30,11 @@ def display_width(text):
     return sum(2 if unicodedata.east_asian_width(c) in "WF" else 1 for c in text)
 
 
-def row_height(text, width_chars):
-    """Points of a wrapped cell holding ``text`` in a merged width of ``width_chars``."""
-    lines = sum(max(1, math.ceil(display_width(line) / max(width_chars - 2, 10)))
-                for line in text.split("\n"))
-    return min(409, lines * POINTS_PER_LINE + 6)
+def rows_points(texts, bold=False):
+    """Points of a row whose wrapped cells hold ``texts`` — [(text, width in characters)]
+    — as tall as the longest, so a printed row never runs into the next."""
+    lines = max(text_lines(text, width, bold=bold) for text, width in texts)
+    return min(409, lines * line_height() + 1.5)
 
 
 def write_student_workbook(path, assignment, spec, student, values, given, lang, rows):
@@ -64,13 +65,15 @@ def _write(filename, assignment, spec, student, values, given, lang, rows):
         names[name] = f"={quote_sheet(sheet)}!{ref}"
 
     _task_sheet(book, assignment, spec, student, values, lang, styles, define)
-    if given:
-        _given_sheet(book, given, lang, styles, define)
+    given_print = _given_sheet(book, given, lang, styles, define) if given else None
     answer = styles.number("-", "General", role="input")
     for sheet in assignment.sheets:
         _answer_sheet(book, sheet, assignment, spec, lang, styles, define, answer, rows)
     for ws in book.worksheets():
         landscape_page(ws)
+    if given_print:                         # no last page holding a few rows
+        sheet, last = given_print
+        landscape_page(sheet, [PRINT_WIDTH] * 2 * PRINT_BLOCKS, last)
     for name in sorted(names):
         book.define_name(name, names[name])
     book.close()
@@ -79,8 +82,15 @@ def _write(filename, assignment, spec, student, values, given, lang, rows):
 def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
     name = TASK[lang]
     task = book.add_worksheet(name)
-    for col, width in enumerate(TASK_WIDTHS):
+    shown = [p for p in spec.scalar_parameters() if p.group != "pressure" and
+             (assignment.task_groups is None or p.group in assignment.task_groups)]
+    # the keys in full (Consolas: one character of column each)
+    widths = [max(TASK_WIDTHS[0], *(len(p.key) + 2 for p in shown)), *TASK_WIDTHS[1:]]
+    for col, width in enumerate(widths):
         task.set_column(col, col, width)
+    top = book.add_format({**styles.base, "valign": "top"})
+    key_top = book.add_format({**styles.base, "font_name": "Consolas",
+                               "font_color": "#1F3864", "valign": "top"})
     task.write(0, 0, assignment.name(lang), styles.title)
     other = assignment.en if lang == "zh" else assignment.zh
     task.write(1, 0, other, styles.subtitle)
@@ -91,37 +101,32 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
     task.write_string(4, 1, student["name"])
     define("s_student_name", name, 4, 1)
     statement = assignment.statement(lang)
-    task.merge_range(6, 0, 6, len(TASK_WIDTHS) - 1, statement, styles.text)
-    task.set_row(6, row_height(statement, sum(TASK_WIDTHS)))
+    task.merge_range(6, 0, 6, len(widths) - 1, statement, styles.text)
+    task.set_row(6, rows_points([(statement, sum(widths))]))
     row = 8
     for col, text in enumerate([both("键", "Key", lang), both("数值", "Value", lang),
                                 both("单位", "Unit", lang), "说明", "Description"]):
         task.write(row, col, text, styles.header)
     task.repeat_rows(row)
-    for parameter in spec.scalar_parameters():
-        if parameter.group == "pressure":
-            continue                      # the pressure is given as a table instead
-        if assignment.task_groups is not None and parameter.group not in assignment.task_groups:
-            continue                      # inputs the task does not use
+    # the pressure is given as a table instead; inputs the task does not use are left out
+    for parameter in shown:
         row += 1
-        task.write(row, 0, parameter.key, styles.key)
+        task.write(row, 0, parameter.key, key_top)
         if parameter.kind == "choice":            # the word, as the full workbook shows it
-            task.write_string(row, 1, parameter.choices[int(values[parameter.key]) - 1])
+            task.write_string(row, 1, parameter.choices[int(values[parameter.key]) - 1], top)
         else:
-            task.write_number(row, 1, float(values[parameter.key]))
-        task.write(row, 2, unit_text(parameter.unit))
+            task.write_number(row, 1, float(values[parameter.key]), top)
+        task.write(row, 2, unit_text(parameter.unit), top)
         task.write(row, 3, parameter.zh, styles.text)
         task.write(row, 4, parameter.en, styles.text)
-        width = max(display_width(parameter.zh), display_width(parameter.en))
-        if width > TASK_WIDTHS[3] - 2:
-            task.set_row(row, row_height(parameter.zh if display_width(parameter.zh) > display_width(
-                parameter.en) else parameter.en, TASK_WIDTHS[3]))
+        task.set_row(row, rows_points([(parameter.zh, widths[3]), (parameter.en, widths[4])]))
         define(f"p_{parameter.key}", name, row, 1)
-    row = _item_tables(task, name, assignment, spec, values, lang, styles, define, row + 2)
+    row = _item_tables(task, name, assignment, spec, values, lang, styles, define, row + 2,
+                       widths)
     task.activate()
 
 
-def _item_tables(task, name, assignment, spec, values, lang, styles, define, row):
+def _item_tables(task, name, assignment, spec, values, lang, styles, define, row, widths):
     """The per-item inputs the task uses (the gears' teeth and shifts, …): one table per
     axis, one row per item, each column named p_<key> as in the full workbook."""
     for axis in spec.axes:
@@ -132,11 +137,11 @@ def _item_tables(task, name, assignment, spec, values, lang, styles, define, row
         caption = assignment.axis_caption(axis.key, lang, values)
         task.write(row, 0, caption or both(axis.zh, axis.en, lang), styles.group)
         row += 1
-        task.write(row, 0, both(axis.label_zh, axis.label_en, lang), styles.header)
-        for col, parameter in enumerate(inputs, start=1):
-            task.write(row, col, f"{parameter.zh} / {parameter.en}" if lang == "zh"
-                       else f"{parameter.en} / {parameter.zh}", styles.header)
-        task.set_row(row, 32)
+        headers = [both(axis.label_zh, axis.label_en, lang)] + [
+            f"{p.zh} / {p.en}" if lang == "zh" else f"{p.en} / {p.zh}" for p in inputs]
+        for col, text in enumerate(headers):
+            task.write(row, col, text, styles.header)
+        task.set_row(row, rows_points(zip(headers, widths), bold=True))
         first = row + 1
         count = len(values[inputs[0].key])
         for i in range(count):
@@ -151,24 +156,53 @@ def _item_tables(task, name, assignment, spec, values, lang, styles, define, row
 
 
 def _given_sheet(book, given, lang, styles, define):
+    """The measured pressure: laid out for print in PRINT_BLOCKS pairs of columns side
+    by side (721 rows in two columns printed 24 pages), and beside that in one column
+    each, named p_given_crank_angle and p_given_pressure, for formulas."""
     name = GIVEN[lang]
     sheet = book.add_worksheet(name)
     sheet.write(0, 0, both("已知数据：气缸压力（绝对）", "Given data: cylinder pressure (absolute)",
                            lang), styles.title)
-    sheet.write(1, 0, both("两个整数度之间按线性插值取值", "between two whole degrees, interpolate "
-                           "linearly", lang), styles.subtitle)
+    named_at = 2 * PRINT_BLOCKS + 1
+    note = both(f"两个整数度之间按线性插值取值；同一数据在 {_column(named_at)}、"
+                f"{_column(named_at + 1)} 两列中各为一列",
+                f"between two whole degrees, interpolate linearly; the same data in one "
+                f"column each in {_column(named_at)} and {_column(named_at + 1)}", lang)
+    sheet.merge_range(1, 0, 1, 2 * PRINT_BLOCKS - 1, note, styles.subtitle_wrap)
+    sheet.set_row(1, rows_points([(note, 2 * PRINT_BLOCKS * PRINT_WIDTH)]))
+    angles, pressures = given["crank_angle"], given["pressure"]
+    per_block = -(-len(angles) // PRINT_BLOCKS)
+    for block in range(PRINT_BLOCKS):
+        col = 2 * block
+        sheet.set_column(col, col + 1, PRINT_WIDTH)
+        sheet.write(3, col, "φ", styles.header)
+        sheet.write(3, col + 1, "p", styles.header)
+        sheet.write(4, col, "[°]", styles.unit)
+        sheet.write(4, col + 1, "[MPa]", styles.unit)
+        for i in range(block * per_block, min(len(angles), (block + 1) * per_block)):
+            sheet.write_number(5 + i - block * per_block, col, float(angles[i]))
+            sheet.write_number(5 + i - block * per_block, col + 1, float(pressures[i]))
+    for row in range(5, 5 + per_block):      # a row's height known: pages fill (landscape_page)
+        sheet.set_row(row, line_height() + 1.5)
+    last = 4 + per_block
+    sheet.print_area(0, 0, last, 2 * PRINT_BLOCKS - 1)
     headers = [(both("曲柄转角 φ", "Crank angle φ", lang), "°", "crank_angle"),
                (both("气缸压力 p", "Cylinder pressure p", lang), "MPa", "pressure")]
-    for col, (title, unit, key) in enumerate(headers):
-        sheet.set_column(col, col, 24)
+    for col, (title, unit, key) in enumerate(headers, start=named_at):
+        sheet.set_column(col, col, GIVEN_WIDTH)
         sheet.write(3, col, title, styles.header)
         sheet.write(4, col, f"[{unit}]", styles.unit)
         for i, value in enumerate(given[key]):
             sheet.write_number(5 + i, col, float(value))
         define(f"p_given_{key}", name, 5, col, 5 + len(given[key]) - 1)
-    sheet.set_row(3, 32)
+    sheet.set_row(3, rows_points([(title, GIVEN_WIDTH) for title, _, _ in headers], bold=True))
     sheet.freeze_panes(5, 0)
     sheet.repeat_rows(3, 4)
+    return sheet, last
+
+
+def _column(col):
+    return xl_rowcol_to_cell(0, col).rstrip("0123456789")
 
 
 def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, answer, rows):
@@ -180,21 +214,24 @@ def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, an
              styles.subtitle)
     items = [assignment.item[key] for key in answer_sheet.items]
     if answer_sheet.rows == "scalar":
-        for col, width in enumerate([40, 18, 10, 26]):
+        widths = [40, 18, 10, max(26, *(len(item.key) + 4 for item in items))]
+        for col, width in enumerate(widths):
             ws.set_column(col, col, width)
-        for col, text in enumerate([both("量", "Quantity", lang), both("答案", "Answer", lang),
-                                    both("单位", "Unit", lang), both("名称", "Name", lang)]):
+        headers = [both("量", "Quantity", lang), both("答案", "Answer", lang),
+                   both("单位", "Unit", lang), both("名称", "Name", lang)]
+        for col, text in enumerate(headers):
             ws.write(3, col, text, styles.header)
+        ws.set_row(3, rows_points(zip(headers, widths), bold=True))
         for i, item in enumerate(items):
             ws.write(4 + i, 0, item.label(lang), styles.text)
             ws.write_blank(4 + i, 1, None, answer)
             ws.write(4 + i, 2, unit_text(item.unit))
             ws.write(4 + i, 3, f"a_{item.key}", styles.key)
+            ws.set_row(4 + i, rows_points([(item.label(lang), widths[0])]))
             define(f"a_{item.key}", name, 4 + i, 1)
-        ws.set_row(3, 20)
         return
     labels = rows[answer_sheet.rows]
-    ws.set_column(0, 0, 26)
+    ws.set_column(0, 0, LABEL_WIDTH)
     titles = {"positions": both("位置", "Position", lang),
               "crank_angle": both("曲轴转角 α [°]", "Crank angle α [°]", lang),
               "cam_angle": both("凸轮转角 δ [°]", "Cam angle δ [°]", lang)}
@@ -209,12 +246,13 @@ def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, an
         else:
             ws.write_number(5 + i, 0, float(text), styles.key)
     for col, item in enumerate(items, start=1):
-        ws.set_column(col, col, 20)
+        ws.set_column(col, col, ANSWER_WIDTH)
         ws.write(3, col, item.label(lang), styles.header)
         ws.write(4, col, f"[{unit_text(item.unit)}]", styles.unit)
         for i in range(len(labels)):
             ws.write_blank(5 + i, col, None, answer)
         define(f"a_{item.key}", name, 5, col, 5 + len(labels) - 1)
-    ws.set_row(3, 48)
+    ws.set_row(3, rows_points([(title, LABEL_WIDTH)] + [(item.label(lang), ANSWER_WIDTH)
+                                                       for item in items], bold=True))
     ws.freeze_panes(5, 1)
     ws.repeat_rows(3, 4)
