@@ -113,6 +113,21 @@ def test_the_audit_prints_what_an_auditor_signs(tmp_path, soffice):
     assert scales and min(scales) >= 65                  # 10-point text at 6.5 points
 
 
+def test_a_student_workbook_prints_in_about_twenty_pages(tmp_path, soffice):
+    """What a student prints: the task, the given pressure in column pairs (not 24
+    pages of two columns), the answer sheets; no text over text, no '###'."""
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名\ns01,学生\n", encoding="utf-8")
+    done = run_cli("assign", "--preset", "course-design", "--roster", roster, "--seed", "1",
+                   "-q", "-o", tmp_path / "class")
+    assert done.returncode == 0, done.stderr
+    pdf = recalc.convert([tmp_path / "class" / "students" / "s01.xlsx"], tmp_path / "pdf",
+                         target="pdf")[0]
+    pages = _pages(pdf)
+    assert len(pages) <= 20 and not any("###" in page for page in pages)
+    assert not _overlaps(pdf), _overlaps(pdf)[:3]
+
+
 def _sheet_xml(book, name):
     with zipfile.ZipFile(book) as z:
         sheets = openpyxl.load_workbook(book, read_only=True).sheetnames
