@@ -369,20 +369,63 @@ def relative_amplitude_sums(mode_shape, throw, firing_angle, torsion_order):
                                   np.ravel(torsion_order))
 
 
-def resonant_amplitude(cylinder_torque_amplitude, torque_order, torsion_order,
-                       relative_amplitude_sum, torsion_damping_ratio, natural_frequency,
-                       modal_inertia):
+def resonant_torque_amplitude(cylinder_torque_cosine, cylinder_torque_sine,
+                              cylinder_inertia_torque_cosine, cylinder_inertia_torque_sine,
+                              torque_order, torsion_order, critical_speed, speed):
+    """One cylinder's order-k torque amplitude at the critical speed n_c of order k and
+    mode n [N·m]: the gas part as at the design speed (the same pressure), the inertia
+    part scaled with the speed squared,
+
+        A_k(n_c) = |(a_k − a_k,j) + (n_c/n)²·a_k,j, (b_k − b_k,j) + (n_c/n)²·b_k,j|
+
+    Parameters
+    ----------
+    cylinder_torque_cosine, cylinder_torque_sine : array (orders,) [N·m]
+        a_k, b_k of one cylinder's torque at the design speed.
+    cylinder_inertia_torque_cosine, cylinder_inertia_torque_sine : array (orders,) [N·m]
+        a_k,j, b_k,j of its inertia part at the design speed.
+    torque_order : array (orders,), the orders of those harmonics [-]
+    torsion_order : array (N,) or (N, 1), the orders of this table [-]
+    critical_speed : array (N, modes) [rad/s]; NaN where the mode was not found
+    speed : float, the design speed [rad/s]
+
+    Returns
+    -------
+    array (N, modes) [N·m]; 0 where the torque has no harmonic of that order, NaN
+    where there is no critical speed.
+
+    References
+    ----------
+    Den Hartog, *Mechanical Vibrations*, §5.8: the exciting torque at resonance is the
+    harmonic at the critical speed; the inertia torque grows with ω².
+    """
+    k = np.ravel(torsion_order).astype(float)
+    orders = np.asarray(torque_order, dtype=float)
+    # the sheet's MATCH(k, orders, 0) is exact on these halves; a tolerance keeps the
+    # comparison's rounding perturbations from reading a jump to 0 as a derivative
+    same = np.abs(k[:, None] - orders[None, :]) <= 1e-9
+    found, at = same.any(axis=1), np.argmax(same, axis=1)
+
+    def part(values):
+        return np.where(found, np.asarray(values, dtype=float)[at], 0.0)[:, None]
+    scale = (np.asarray(critical_speed, dtype=float) / speed) ** 2 - 1.0
+    a = part(cylinder_torque_cosine) + scale * part(cylinder_inertia_torque_cosine)
+    b = part(cylinder_torque_sine) + scale * part(cylinder_inertia_torque_sine)
+    return np.hypot(a, b)
+
+
+def resonant_amplitude(resonant_torque_amplitude, relative_amplitude_sum,
+                       torsion_damping_ratio, natural_frequency, modal_inertia):
     """Amplitude of the front station at resonance of order k with mode n [rad], by
-    the energy balance: the work of one cylinder's order-k torque A_k over a cycle,
-    π·A_k·Σ·θ_1 (Σ the vector sum), equals the modal damping's 2π·ζ·ω_n²·J_m·θ_1², so
+    the energy balance: the work of one cylinder's order-k torque A_k (at the critical
+    speed) over a cycle, π·A_k·Σ·θ_1 (Σ the vector sum), equals the modal damping's
+    2π·ζ·ω_n²·J_m·θ_1², so
 
         θ_1 = A_k·Σ / (2·ζ·ω_n²·J_m)
 
     Parameters
     ----------
-    cylinder_torque_amplitude : array (orders of the torque harmonics,) [N·m]
-    torque_order : array, the orders of those harmonics [-]
-    torsion_order : array (N,) or (N, 1), the orders of this table [-]
+    resonant_torque_amplitude : array (N, modes) [N·m]
     relative_amplitude_sum : array (N, modes) [-]
     torsion_damping_ratio : float ζ [-]
     natural_frequency : array (modes,) [Hz]
@@ -390,23 +433,16 @@ def resonant_amplitude(cylinder_torque_amplitude, torque_order, torsion_order,
 
     Returns
     -------
-    array (N, modes) [rad]; 0 where the torque has no harmonic of that order.
+    array (N, modes) [rad]
 
     References
     ----------
     Den Hartog, *Mechanical Vibrations*, §5.8 (the energy method at resonance).
     """
-    k = np.ravel(torsion_order).astype(float)
-    orders = np.asarray(torque_order, dtype=float)
-    amplitude = np.asarray(cylinder_torque_amplitude, dtype=float)
-    # the sheet's MATCH(k, orders, 0) is exact on these halves; a tolerance keeps the
-    # comparison's rounding perturbations from reading a jump to 0 as a derivative
-    same = np.abs(k[:, None] - orders[None, :]) <= 1e-9
-    a_k = np.where(same.any(axis=1), amplitude[np.argmax(same, axis=1)], 0.0)
     omega2 = (2 * np.pi * np.asarray(natural_frequency, dtype=float)) ** 2
-    theta = a_k[:, None] * np.asarray(relative_amplitude_sum, dtype=float) / (
+    return np.asarray(resonant_torque_amplitude, dtype=float) * np.asarray(
+        relative_amplitude_sum, dtype=float) / (
         2 * torsion_damping_ratio * omega2[None, :] * np.asarray(modal_inertia, dtype=float))
-    return theta
 
 
 # ---------------------------------------------------------------- Campbell diagram

@@ -235,11 +235,10 @@ def test_the_resonant_amplitude_is_the_damped_forced_response():
     K = np.diag(np.r_[k, 0.0] + np.r_[0.0, k]) - np.diag(k, 1) - np.diag(k, -1)
     f1 = torsional.natural_frequencies(J, k)[0]
     omega = 2 * np.pi * f1
-    orders = list(r["torque_order"])
     for row, order in enumerate(r["torsion_order"]):
         if order not in (3.0, 6.0, 1.5):
             continue
-        amplitude = r["cylinder_torque_amplitude"][orders.index(order)]
+        amplitude = r["resonant_torque_amplitude"][row, 0]     # at the critical speed
         phases = np.radians(np.asarray(r.parameters["firing_angle"], dtype=float))
         F = np.zeros(J.size, dtype=complex)
         for throw, phase in zip(r.parameters["throw"], phases):
@@ -248,6 +247,25 @@ def test_the_resonant_amplitude_is_the_damped_forced_response():
                             np.diag(J), F)
         expected = np.degrees(abs(x[0]))
         assert r["resonant_amplitude"][row, 0] == pytest.approx(expected, rel=0.03), order
+
+
+def test_the_exciting_torque_is_the_harmonic_at_the_critical_speed():
+    """The order-k torque driving a resonance is one cylinder's harmonic at the critical
+    speed: the same engine computed at that speed gives it (gas torque unchanged, the
+    inertia torque with the speed squared)."""
+    import crankbook
+    r = crankbook.compute("inline-6", step=10.0)
+    orders = list(r["torque_order"])
+    for row, order in enumerate(r["torsion_order"]):
+        if order not in (3.0, 4.5, 6.0):
+            continue
+        speed = r["critical_speed"][row, 0]
+        there = crankbook.compute("inline-6", step=10.0, speed=speed)
+        expected = there["cylinder_torque_amplitude"][orders.index(order)]
+        assert r["resonant_torque_amplitude"][row, 0] == pytest.approx(expected, rel=1e-9)
+        if order == 3.0:                # the inertia torque has whole orders: 3 differs
+            assert expected != pytest.approx(
+                r["cylinder_torque_amplitude"][orders.index(order)], rel=0.01)
 
 
 def test_typed_values_must_fill_the_stations():
