@@ -49,7 +49,8 @@ NAME = re.compile(r"(?<![\w/.])([pqa])_([a-z][a-z0-9_]*[a-z0-9])")
 def _defined_names():
     """Every p_/q_ name some workbook defines; an a_ name answers a q_ name."""
     from crankbook.spec.loader import load, template_names
-    names = {"q_inputs_valid", "q_input_status"}
+    from crankbook.assignment.student_book import GIVEN_KEYS
+    names = {"q_inputs_valid", "q_input_status"} | {f"p_given_{k}" for k in GIVEN_KEYS}
     for template in template_names():
         spec = load(template)
         names |= {f"p_{p.key}" for p in spec.parameters}

@@ -18,6 +18,7 @@ GIVEN = {"zh": "已知数据", "en": "Given data"}
 TASK_WIDTHS = [30, 16, 9, 48, 48]
 GIVEN_WIDTH = 24
 PRINT_BLOCKS, PRINT_WIDTH = 6, 9         # the given pressure prints in six column pairs
+GIVEN_KEYS = ("crank_angle", "pressure")  # named p_given_<key> on the given-data sheet
 LABEL_WIDTH, ANSWER_WIDTH = 26, 20       # an answer sheet's row labels and answer columns
 
 
@@ -186,8 +187,8 @@ def _given_sheet(book, given, lang, styles, define):
         sheet.set_row(row, line_height() + 1.5)
     last = 4 + per_block
     sheet.print_area(0, 0, last, 2 * PRINT_BLOCKS - 1)
-    headers = [(both("曲柄转角 φ", "Crank angle φ", lang), "°", "crank_angle"),
-               (both("气缸压力 p", "Cylinder pressure p", lang), "MPa", "pressure")]
+    headers = [(both("曲柄转角 φ", "Crank angle φ", lang), "°", GIVEN_KEYS[0]),
+               (both("气缸压力 p", "Cylinder pressure p", lang), "MPa", GIVEN_KEYS[1])]
     for col, (title, unit, key) in enumerate(headers, start=named_at):
         sheet.set_column(col, col, GIVEN_WIDTH)
         sheet.write(3, col, title, styles.header)
