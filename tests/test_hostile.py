@@ -95,6 +95,21 @@ def test_pipes_devices_and_links_out_cannot_stop_the_batch(pack, tmp_path):
         rows["s002"].get("notes", "")
 
 
+def test_why_a_file_was_not_read_is_said_in_chinese(tmp_path):
+    """A Chinese class reads every reason in Chinese: the refusals of non-regular files
+    (as the reader words them) and of the bounded reader's limits."""
+    from crankbook.assignment.results import reason_text
+    from crankbook.assignment.submissions import _not_regular
+    os.mkfifo(tmp_path / "pipe.xlsx")
+    os.symlink("/etc/hostname", tmp_path / "out.xlsx")
+    reasons = [_not_regular(tmp_path / name, tmp_path) for name in ("pipe.xlsx", "out.xlsx")]
+    reasons += ["more than 2,000,000 XML elements: not a workbook crankbook wrote",
+                "1900 sheets, more than 255: not a workbook a student would hand in",
+                "name a_flywheel_inertia: refers to another file"]
+    for reason in reasons:
+        assert re.search(r"[\u4e00-\u9fff]", reason_text(reason, "zh")), reason
+
+
 # ---------------------------------------------------------- bounded memory
 def _limited(*args, megabytes=700, timeout=300):
     """crankbook ARGS under an address-space limit (a hostile file must fit in it)."""
