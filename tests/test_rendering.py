@@ -4,6 +4,7 @@ outside an explicit axis, equal-axis charts at one scale (measured on the render
 page from the tick labels), their live frame following an edit."""
 import html
 import re
+import shutil
 import subprocess
 import zipfile
 
@@ -113,19 +114,30 @@ def test_the_audit_prints_what_an_auditor_signs(tmp_path, soffice):
     assert scales and min(scales) >= 65                  # 10-point text at 6.5 points
 
 
-def test_a_student_workbook_prints_in_about_twenty_pages(tmp_path, soffice):
+def test_a_student_workbook_and_the_teachers_reports_print(tmp_path, soffice):
     """What a student prints: the task, the given pressure in column pairs (not 24
-    pages of two columns), the answer sheets; no text over text, no '###'."""
+    pages of two columns), the answer sheets; the class report, integrity report and
+    gradebook a teacher prints; no text over text, no '###'."""
     roster = tmp_path / "roster.csv"
-    roster.write_text("学号,姓名\ns01,学生\n", encoding="utf-8")
+    roster.write_text("学号,姓名\ns01,学生\ns02,同学\n", encoding="utf-8")
     done = run_cli("assign", "--preset", "course-design", "--roster", roster, "--seed", "1",
                    "-q", "-o", tmp_path / "class")
     assert done.returncode == 0, done.stderr
-    pdf = recalc.convert([tmp_path / "class" / "students" / "s01.xlsx"], tmp_path / "pdf",
-                         target="pdf")[0]
-    pages = _pages(pdf)
-    assert len(pages) <= 20 and not any("###" in page for page in pages)
-    assert not _overlaps(pdf), _overlaps(pdf)[:3]
+    subs = tmp_path / "subs"                            # s02 hands in s01's file
+    subs.mkdir()
+    for sid in ("s01", "s02"):
+        shutil.copy(tmp_path / "class" / "students" / "s01.xlsx", subs / f"{sid}.xlsx")
+    done = run_cli("grade", tmp_path / "class", subs, "-q", "-o", tmp_path / "results")
+    assert done.returncode == 0, done.stderr
+    reports = [tmp_path / "results" / f"{name}.xlsx"
+               for name in ("class-report", "integrity", "gradebook")]
+    pdfs = recalc.convert([tmp_path / "class" / "students" / "s01.xlsx", *reports],
+                          tmp_path / "pdf", target="pdf")
+    pages = _pages(pdfs[0])
+    assert len(pages) <= 20
+    for pdf in pdfs:                                    # and the teacher's reports
+        assert not any("###" in page for page in _pages(pdf)), pdf.name
+        assert not _overlaps(pdf), (pdf.name, _overlaps(pdf)[:3])
 
 
 def _sheet_xml(book, name):

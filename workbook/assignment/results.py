@@ -34,7 +34,7 @@ from crankbook.assignment import rounds
 from crankbook.support.csv_safety import csv_text
 from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.layout import unit_text
-from crankbook.writer.print_setup import landscape_page
+from crankbook.writer.print_setup import landscape_page, row_points
 from crankbook.writer.styles import Styles
 
 FEEDBACK_MODES = ("full", "hints", "score-only")
@@ -322,15 +322,17 @@ def write_integrity_report(path, lang, grades, suspicions):
             notes = [say(w, word, **fields) for word, fields, _ in g.notes]
             rows.append([f"{g.student_id} {g.name}", "", w.get(f"flag_{flag}", flag),
                          w["separator"].join(notes), w.get(f"action_{flag}", "")])
+    widths = [18, 18, 22, 70, 40]
     for values in rows:
         for col, value in enumerate(values):
             ws.write_string(row, col, value, styles.text)
+        ws.set_row(row, row_points(zip(values, widths)))
         row += 1
     if not rows:
         ws.write(row, 0, w["integrity_none"], styles.text)
-    widths = [18, 18, 22, 70, 40]
     for col, width in enumerate(widths):
         ws.set_column(col, col, width)
+    ws.set_row(3, row_points(zip([w[word] for word in header], widths), bold=True))
     ws.freeze_panes(4, 1)
     landscape_page(ws)
     ws.repeat_rows(3)
@@ -437,16 +439,19 @@ def write_class_report(path, assignment, lang, grades):
     students.set_column(0, 0, _width([g.student_id for g in grades], 12))
     students.set_column(1, 1, _width([g.name for g in grades], 12))
     students.set_column(2, 4, 14)
-    students.set_column(5, 5, _width(notes.values(), 20, 90), styles.text)
+    notes_width = _width(notes.values(), 20, 90)
+    students.set_column(5, 5, notes_width, styles.text)
+    top = book.add_format({**styles.base, "valign": "top"})
     for row, g in enumerate(grades, start=1):
-        students.write_string(row, 0, g.student_id)
-        students.write_string(row, 1, g.name)
-        students.write_string(row, 2, w.get(f"state_{g.status}", g.status))
+        students.write_string(row, 0, g.student_id, top)
+        students.write_string(row, 1, g.name, top)
+        students.write_string(row, 2, w.get(f"state_{g.status}", g.status), top)
         if g.status == "graded":
-            students.write_number(row, 3, round(g.score, 2))
-        students.write_string(row, 4, w["separator"].join(w.get(f"flag_{f}", f)
-                                                         for f in g.flags))
-        students.write_string(row, 5, notes[g.student_id])
+            students.write_number(row, 3, round(g.score, 2), top)
+        flags = w["separator"].join(w.get(f"flag_{f}", f) for f in g.flags)
+        students.write_string(row, 4, flags, styles.text)
+        students.write_string(row, 5, notes[g.student_id], styles.text)
+        students.set_row(row, row_points([(flags, 14), (notes[g.student_id], notes_width)]))
     students.freeze_panes(1, 2)
     for sheet in book.worksheets():
         landscape_page(sheet)

@@ -10,7 +10,7 @@ from crankbook.support.atomic import atomic_path
 from crankbook.spec.formulas import quote_sheet
 from crankbook.writer.build import FIXED_TIME, PROPERTY_ASSIGNMENT, PROPERTY_ROLE, PROPERTY_TEMPLATE
 from crankbook.writer.layout import unit_text
-from crankbook.writer.print_setup import landscape_page, line_height, text_lines
+from crankbook.writer.print_setup import landscape_page, line_height, row_points
 from crankbook.writer.styles import Styles
 
 TASK = {"zh": "任务", "en": "Task"}
@@ -29,13 +29,6 @@ def both(zh, en, lang):
 def display_width(text):
     """Columns a text takes: CJK and full-width characters count two."""
     return sum(2 if unicodedata.east_asian_width(c) in "WF" else 1 for c in text)
-
-
-def rows_points(texts, bold=False):
-    """Points of a row whose wrapped cells hold ``texts`` — [(text, width in characters)]
-    — as tall as the longest, so a printed row never runs into the next."""
-    lines = max(text_lines(text, width, bold=bold) for text, width in texts)
-    return min(409, lines * line_height() + 1.5)
 
 
 def write_student_workbook(path, assignment, spec, student, values, given, lang, rows):
@@ -103,7 +96,7 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
     define("s_student_name", name, 4, 1)
     statement = assignment.statement(lang)
     task.merge_range(6, 0, 6, len(widths) - 1, statement, styles.text)
-    task.set_row(6, rows_points([(statement, sum(widths))]))
+    task.set_row(6, row_points([(statement, sum(widths))]))
     row = 8
     for col, text in enumerate([both("键", "Key", lang), both("数值", "Value", lang),
                                 both("单位", "Unit", lang), "说明", "Description"]):
@@ -120,7 +113,7 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
         task.write(row, 2, unit_text(parameter.unit), top)
         task.write(row, 3, parameter.zh, styles.text)
         task.write(row, 4, parameter.en, styles.text)
-        task.set_row(row, rows_points([(parameter.zh, widths[3]), (parameter.en, widths[4])]))
+        task.set_row(row, row_points([(parameter.zh, widths[3]), (parameter.en, widths[4])]))
         define(f"p_{parameter.key}", name, row, 1)
     row = _item_tables(task, name, assignment, spec, values, lang, styles, define, row + 2,
                        widths)
@@ -142,7 +135,7 @@ def _item_tables(task, name, assignment, spec, values, lang, styles, define, row
             f"{p.zh} / {p.en}" if lang == "zh" else f"{p.en} / {p.zh}" for p in inputs]
         for col, text in enumerate(headers):
             task.write(row, col, text, styles.header)
-        task.set_row(row, rows_points(zip(headers, widths), bold=True))
+        task.set_row(row, row_points(zip(headers, widths), bold=True))
         first = row + 1
         count = len(values[inputs[0].key])
         for i in range(count):
@@ -170,7 +163,7 @@ def _given_sheet(book, given, lang, styles, define):
                 f"between two whole degrees, interpolate linearly; the same data in one "
                 f"column each in {_column(named_at)} and {_column(named_at + 1)}", lang)
     sheet.merge_range(1, 0, 1, 2 * PRINT_BLOCKS - 1, note, styles.subtitle_wrap)
-    sheet.set_row(1, rows_points([(note, 2 * PRINT_BLOCKS * PRINT_WIDTH)]))
+    sheet.set_row(1, row_points([(note, 2 * PRINT_BLOCKS * PRINT_WIDTH)]))
     angles, pressures = given["crank_angle"], given["pressure"]
     per_block = -(-len(angles) // PRINT_BLOCKS)
     for block in range(PRINT_BLOCKS):
@@ -196,7 +189,7 @@ def _given_sheet(book, given, lang, styles, define):
         for i, value in enumerate(given[key]):
             sheet.write_number(5 + i, col, float(value))
         define(f"p_given_{key}", name, 5, col, 5 + len(given[key]) - 1)
-    sheet.set_row(3, rows_points([(title, GIVEN_WIDTH) for title, _, _ in headers], bold=True))
+    sheet.set_row(3, row_points([(title, GIVEN_WIDTH) for title, _, _ in headers], bold=True))
     sheet.freeze_panes(5, 0)
     sheet.repeat_rows(3, 4)
     return sheet, last
@@ -222,13 +215,13 @@ def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, an
                    both("单位", "Unit", lang), both("名称", "Name", lang)]
         for col, text in enumerate(headers):
             ws.write(3, col, text, styles.header)
-        ws.set_row(3, rows_points(zip(headers, widths), bold=True))
+        ws.set_row(3, row_points(zip(headers, widths), bold=True))
         for i, item in enumerate(items):
             ws.write(4 + i, 0, item.label(lang), styles.text)
             ws.write_blank(4 + i, 1, None, answer)
             ws.write(4 + i, 2, unit_text(item.unit))
             ws.write(4 + i, 3, f"a_{item.key}", styles.key)
-            ws.set_row(4 + i, rows_points([(item.label(lang), widths[0])]))
+            ws.set_row(4 + i, row_points([(item.label(lang), widths[0])]))
             define(f"a_{item.key}", name, 4 + i, 1)
         return
     labels = rows[answer_sheet.rows]
@@ -253,7 +246,7 @@ def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, an
         for i in range(len(labels)):
             ws.write_blank(5 + i, col, None, answer)
         define(f"a_{item.key}", name, 5, col, 5 + len(labels) - 1)
-    ws.set_row(3, rows_points([(title, LABEL_WIDTH)] + [(item.label(lang), ANSWER_WIDTH)
+    ws.set_row(3, row_points([(title, LABEL_WIDTH)] + [(item.label(lang), ANSWER_WIDTH)
                                                        for item in items], bold=True))
     ws.freeze_panes(5, 1)
     ws.repeat_rows(3, 4)

@@ -17,7 +17,7 @@ from crankbook.support.atomic import atomic_path
 from crankbook.audit.claims import (FORMULA_AGREEMENT, INPUT, NOISE_FLOOR, STATUS_OF_KIND,
                                     VERDICTS, coverage, shown)
 from crankbook.writer.build import FIXED_TIME
-from crankbook.writer.print_setup import A4, line_height, text_lines
+from crankbook.writer.print_setup import A4, row_points
 from crankbook.writer.styles import Styles
 
 # (label, width in characters, wrapped).  The columns an auditor signs come first and
@@ -236,8 +236,7 @@ def _write_summary(book, ws, documents, names, formats, status_formats, sources)
     ws.write(HEADER_ROW, total_col, "total", styles.header)
     ws.set_column(0, 0, 18)
     ws.set_column(1, total_col, 13)
-    ws.set_row(HEADER_ROW, line_height() * max(text_lines(status, 13, bold=True)
-                                               for status in STATUSES) + 1.5)
+    ws.set_row(HEADER_ROW, row_points([(status, 13) for status in STATUSES], bold=True))
     verdict_col = xl_col_to_name(COL["verdict"])
     for row, document in enumerate(documents, start=HEADER_ROW + 1):
         name = names[document.key]
@@ -280,7 +279,7 @@ def _write_summary(book, ws, documents, names, formats, status_formats, sources)
             if text.startswith("Claims per section"):
                 ws.write(row, 0, document.key, formats.plain)
             ws.merge_range(row, 1, row, total_col + 3, text.lstrip("- "), formats.wrap)
-            ws.set_row(row, line_height() * text_lines(text, 100) + 1.5)
+            ws.set_row(row, row_points([(text, 100)]))
     ws.set_paper(A4)
     ws.set_landscape()
     ws.fit_to_pages(1, 0)
@@ -296,8 +295,8 @@ def _write_document_sheet(book, document, name, formats, status_formats):
     for col, (label, width, _) in enumerate(COLUMNS):
         ws.write(HEADER_ROW, col, label, styles.header)
         ws.set_column(col, col, width)
-    ws.set_row(HEADER_ROW, line_height() * max(text_lines(label, width, bold=True)
-                                               for label, width, _ in COLUMNS) + 1.5)
+    ws.set_row(HEADER_ROW, row_points([(label, width) for label, width, _ in COLUMNS],
+                                      bold=True))
     ws.write(HEADER_ROW, INPUTS_AT, "inputs (name, value, …)", styles.header)
     ws.set_column(INPUTS_AT, INPUTS_AT + 16, 11)
     for row, (claim, finding) in enumerate(zip(document.claims, document.findings()),
@@ -399,8 +398,8 @@ def _write_claim_row(ws, row, claim, finding, formats):
              "quote (line, offset)": _quote(finding),
              "derived: what": finding["derived_what"], "basis": _basis(finding),
              "tolerance: why": finding["tolerance_reason"], "note": finding["note"]}
-    height = max(text_lines(text, COLUMNS[COL[label]][1]) for label, text in texts.items())
-    ws.set_row(row, line_height() * height + 1.5)
+    ws.set_row(row, row_points([(text, COLUMNS[COL[label]][1])
+                                for label, text in texts.items()]))
 
 
 def decimals_of_value(value):

@@ -56,14 +56,20 @@ def line_height(size=10):
     return round(size * 1.25, 1)
 
 
+def row_points(texts, bold=False):
+    """Points of a row whose wrapped cells hold ``texts`` — [(text, width in
+    characters)] — as tall as the longest (at most Excel's 409), so a printed row
+    never runs into the next."""
+    lines = max(text_lines(text, width, bold=bold) for text, width in texts)
+    return min(409.0, lines * line_height() + 1.5)
+
+
 def wrapped_texts(ws, row, texts, fmt):
     """Texts wrapped in their cells — ``texts`` {column: (text, width in characters)}
-    — and the row as tall as the longest, so a printed row never runs into the next."""
+    — and the row as tall as the longest."""
     for col, (text, width) in texts.items():
         ws.write(row, col, text, fmt)
-    # one line too: LibreOffice makes a row holding CJK glyphs 17 pt tall on its own
-    lines = max(text_lines(text, width) for text, width in texts.values())
-    ws.set_row(row, lines * line_height() + 1.5)
+    ws.set_row(row, row_points(texts.values()))
 
 
 def wrapped_title(ws, row, text, widths, fmt):
