@@ -61,13 +61,15 @@ def _write(filename, assignment, spec, student, values, given, lang, rows):
     _task_sheet(book, assignment, spec, student, values, lang, styles, define)
     given_print = _given_sheet(book, given, lang, styles, define) if given else None
     answer = styles.number("-", "General", role="input")
-    for sheet in assignment.sheets:
-        _answer_sheet(book, sheet, assignment, spec, lang, styles, define, answer, rows)
+    tables = [_answer_sheet(book, sheet, assignment, spec, lang, styles, define, answer, rows)
+              for sheet in assignment.sheets]
     for ws in book.worksheets():
         landscape_page(ws)
-    if given_print:                         # no last page holding a few rows
+    if given_print:
         sheet, last = given_print
-        landscape_page(sheet, [PRINT_WIDTH] * 2 * PRINT_BLOCKS, last)
+        tables.append((sheet, [PRINT_WIDTH] * 2 * PRINT_BLOCKS, last))
+    for sheet, widths, last in tables:       # no last page holding a few rows
+        landscape_page(sheet, widths, last)
     for name in sorted(names):
         book.define_name(name, names[name])
     book.close()
@@ -223,7 +225,7 @@ def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, an
             ws.write(4 + i, 3, f"a_{item.key}", styles.key)
             ws.set_row(4 + i, row_points([(item.label(lang), widths[0])]))
             define(f"a_{item.key}", name, 4 + i, 1)
-        return
+        return ws, widths, 3 + len(items)
     labels = rows[answer_sheet.rows]
     ws.set_column(0, 0, LABEL_WIDTH)
     titles = {"positions": both("位置", "Position", lang),
@@ -250,3 +252,4 @@ def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, an
                                                        for item in items], bold=True))
     ws.freeze_panes(5, 1)
     ws.repeat_rows(3, 4)
+    return ws, [LABEL_WIDTH] + [ANSWER_WIDTH] * len(items), 4 + len(labels)
