@@ -37,36 +37,6 @@ ORDERS = tuple(k / 2 for k in range(1, 25))          # 0.5, 1, …, 12
 
 
 # ---------------------------------------------------------------- the equivalent system
-def throw_inertia(rotating_mass, reciprocating_mass, crank_radius, crank_ratio,
-                  web_inertia=0.0):
-    """Mass moment of inertia of one throw's station about the crankshaft axis.
-
-    Parameters
-    ----------
-    rotating_mass : float or array
-        Mass turning at the crank radius (the crank pin's share of the rods'
-        big ends and the unbalanced crank mass reduced to the pin) [kg].
-    reciprocating_mass : float or array
-        Piston group and the rods' small-end share m_j [kg].
-    crank_radius : float
-        r [m].
-    crank_ratio : float
-        λ = r/l [-].
-    web_inertia : float or array
-        Both webs of the throw together, about the crankshaft axis [kg·m²].
-
-    Returns
-    -------
-    J : float or array [kg·m²]
-        m_r·r² + m_j·r²·(1/2 + λ²/8) + J_web — the reciprocating mass by its mean
-        over a turn (the same mean as seed 004's equivalent ring mass).
-    """
-    r2 = np.asarray(crank_radius, dtype=float) ** 2
-    return (np.asarray(rotating_mass, dtype=float) * r2 +
-            np.asarray(reciprocating_mass, dtype=float) * r2 * (0.5 + crank_ratio ** 2 / 8.0)
-            + np.asarray(web_inertia, dtype=float))
-
-
 def polar_moment(diameter, bore=0.0):
     """Polar second moment of area of a (hollow) round section, π(D⁴ − d⁴)/32 [m⁴]."""
     return np.pi * (np.asarray(diameter, dtype=float) ** 4 -

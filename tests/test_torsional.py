@@ -58,17 +58,19 @@ def test_a_grid_below_the_first_mode_finds_nothing():
     assert torsional.holzer_frequencies([1.0, 1.0], [1.0e4], 0.1, 5.0).size == 0
 
 
-def test_throw_inertia_is_the_ring_mass_at_the_crank_radius():
-    """The reciprocating mass's mean equivalent is seed 004's bob weight: with the big
-    end as the rotating mass, J = M_ring·r²."""
-    m_j, m_big, lam, r = 0.62, 0.41, 0.29, 0.045
+def test_a_throws_station_is_its_rods_ring_mass_at_the_crank_radius():
+    """A throw's J = m_big·r² + m_j·r²·(1/2 + λ²/8) + J_web: the reciprocating mass by
+    its mean over a turn, which is seed 004's bob weight (the ring mass) at r; and the
+    ring mass is the kinetic-energy mean computed numerically."""
+    m_j, m_big, lam, r, web = 0.62, 0.41, 0.29, 0.045, 0.002
     ring = multicylinder.ring_mass_per_rod(m_j, m_big, lam)
-    assert torsional.throw_inertia(m_big, m_j, r, lam) == pytest.approx(ring * r ** 2,
-                                                                         rel=1e-12)
-    numeric = multicylinder.ring_mass_numeric(m_j, m_big, lam) * r ** 2
-    assert torsional.throw_inertia(m_big, m_j, r, lam) == pytest.approx(numeric, rel=1e-3)
-    assert torsional.throw_inertia(m_big, m_j, r, lam, 0.002) == pytest.approx(
-        ring * r ** 2 + 0.002, rel=1e-12)
+    stations = torsional.station_inertias(0.1, [ring, 2 * ring], r, web, 0.5)
+    textbook = m_big * r ** 2 + m_j * r ** 2 * (0.5 + lam ** 2 / 8) + web
+    assert stations[1] == pytest.approx(textbook, rel=1e-12)
+    assert stations[2] == pytest.approx(2 * (textbook - web) + web, rel=1e-12)   # two rods
+    numeric = multicylinder.ring_mass_numeric(m_j, m_big, lam) * r ** 2 + web
+    assert stations[1] == pytest.approx(numeric, rel=1e-3)
+    assert (stations[0], stations[-1]) == (0.1, 0.5)
 
 
 def test_carter_length_scales_with_the_crank_and_reduces_to_a_plain_shaft():
