@@ -90,9 +90,8 @@ def test_pipes_devices_and_links_out_cannot_stop_the_batch(pack, tmp_path):
     rows = gradebook(tmp_path / "results")
     assert rows["m001"]["status"] == "graded"
     assert rows["s001"]["status"] == rows["s002"]["status"] == "unreadable"
-    assert "FIFO" in rows["s001"]["status_text"] + rows["s001"].get("notes", "")
-    assert "leaves the submissions folder" in rows["s002"]["status_text"] + \
-        rows["s002"].get("notes", "")
+    assert "命名管道" in rows["s001"]["status_text"] + rows["s001"].get("notes", "")
+    assert "提交文件夹以外" in rows["s002"]["status_text"] + rows["s002"].get("notes", "")
 
 
 def test_why_a_file_was_not_read_is_said_in_chinese(tmp_path):

@@ -16,9 +16,10 @@ COLOURS = ["#1F77B4", "#D62728", "#2CA02C", "#FF7F0E", "#9467BD", "#8C564B", "#E
 GRIDLINES = {"visible": True, "line": {"color": "#D9D9D9"}}
 
 
-def _ranges(layout, key, results, short=False):
+def _ranges(layout, key, results, short=False, chart_spec=None):
     """(name, range) of each curve of a series: one, or one per item (named by the item
-    alone when ``short``: the curves of a polar diagram)."""
+    alone when ``short``: the curves of a polar diagram; "<curve> n" where the chart
+    names its curves, and only its first ``curves`` items)."""
     spec, locator = layout.spec, layout.locator
     quantity = spec.quantity.get(key) or spec.parameter[key]
     place = layout.places[key]
@@ -27,9 +28,13 @@ def _ranges(layout, key, results, short=False):
         return [(label(quantity, layout.lang), f"{quote_sheet(place.sheet)}!{cells}")]
     if not quantity.items:
         return [(label(quantity, layout.lang), locator.column_range(key))]
-    words = [layout.item_label(quantity.items, layout.lang, i + 1) for i in range(place.count)]
-    return [(words[i] if short else f"{label(quantity, layout.lang)} — {words[i]}",
-             locator.column_range(key, col=place.col + i)) for i in range(place.count)]
+    count = place.count if chart_spec is None or chart_spec.curves is None else \
+        min(place.count, chart_spec.curves)
+    curve = chart_spec and (chart_spec.curve_zh if layout.lang == "zh" else chart_spec.curve_en)
+    words = [f"{curve} {i + 1}" if curve else layout.item_label(quantity.items, layout.lang, i + 1)
+             for i in range(count)]
+    return [(words[i] if short or curve else f"{label(quantity, layout.lang)} — {words[i]}",
+             locator.column_range(key, col=place.col + i)) for i in range(count)]
 
 
 FRAME_INTERVALS = 6        # a frame spans about this many steps of a round size
@@ -201,7 +206,8 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
             x_key = chart_spec.x_each[number]
             x_ranges = _ranges(layout, x_key, results)
         for index, (name, values) in enumerate(_ranges(layout, key, results,
-                                                        short=bool(chart_spec.x))):
+                                                        short=bool(chart_spec.x),
+                                                        chart_spec=chart_spec)):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
             y_source = results[key]
             y = np.asarray(y_source, dtype=float)
