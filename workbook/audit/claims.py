@@ -409,8 +409,10 @@ class TableFit:
         self.code = compile(self.python, f"<fit of {self.column}>", "eval")
 
     def column_for(self, point):
+        """The column for the parameters ``point`` (one value each, or one a column
+        of trial values: then one row per trial)."""
         names = Names(dict(self.inputs, **{self.row: np.asarray(self.rows, float)},
-                           **dict(zip(self.names, np.atleast_1d(point)))),
+                           **dict(zip(self.names, point))),
                       self.let, NUMPY_HELPERS)
         return np.asarray(eval(self.code, NUMPY_HELPERS, names), float)  # noqa: S307
 
@@ -429,7 +431,7 @@ class TableFit:
                            for text in self.stateds])
         point = np.clip(stated, *np.array(self.ranges).T)
         for i, (low, high) in enumerate(self.ranges):
-            point[i] = self._line_search(misfit, point, i, low, high)
+            point[i] = self._line_search(misfit, point, i, low, high, values, digit)
         if len(point) > 1:
             point = self._gauss_newton(values, digit, point, misfit)
         slopes = self._slopes(point)
@@ -446,14 +448,17 @@ class TableFit:
 
     __hash__ = object.__hash__
 
-    @staticmethod
-    def _line_search(misfit, point, i, low, high):
-        """The best value of parameter i, the others held: a grid, then golden section
-        on the grid step around its best."""
+    def _line_search(self, misfit, point, i, low, high, values, digit):
+        """The best value of parameter i, the others held: a grid (evaluated at once,
+        one row per trial value), then golden section on the grid step around its
+        best."""
         def at(value):
             return misfit(np.concatenate([point[:i], [value], point[i + 1:]]))
         grid = np.linspace(low, high, 2001)
-        best = grid[int(np.argmin([at(g) for g in grid]))]
+        trial = [grid[:, None] if j == i else p for j, p in enumerate(point)]
+        columns = np.broadcast_to(self.column_for(trial), (grid.size, values.size))
+        best = grid[int(np.argmin(np.sqrt(np.mean(((columns - values) / digit) ** 2,
+                                                  axis=1))))]
         step = (high - low) / 2000
         a, b = max(low, best - step), min(high, best + step)
         ratio = (math.sqrt(5) - 1) / 2
