@@ -1,6 +1,7 @@
 """Page setup shared by the sheet writers: A4 landscape, one page wide, headers
 repeated on every page."""
 import re
+from functools import lru_cache
 
 from crankbook.writer.layout import FIRST_ROW
 
@@ -11,6 +12,7 @@ NO_PRINT = (0, 16383, 0, 16383)   # a print area on an always-empty cell: the sh
                                   # skipped when the whole workbook prints
 
 
+@lru_cache(maxsize=8192)       # the same labels come back on every sheet and every student
 def text_lines(text, width, size=10, bold=False):
     """Lines a wrapped text takes in a cell ``width`` characters wide (Arial ``size``
     pt), by wrapping it word by word as the engines do, on the generous side, so a
