@@ -127,11 +127,11 @@ def table_fit(document, table, column, parameter=None):
         if claim.key == fit_key:
             for fit in claim.fits:
                 if fit.column == column:
-                    values = fit.result()["values"]
+                    result = fit.result()
                     if parameter is None:
-                        return fit.result()["fitted"]
-                    if parameter in values:
-                        return values[parameter]
+                        return result["fitted"]
+                    if parameter in result["values"]:
+                        return result["values"][parameter]
                     raise ValueError(f"{document}: the fit of column {column!r} has no "
                                      f"parameter {parameter!r}")
     raise ValueError(f"{document}: table {table!r} has no fit of column {column!r}")
