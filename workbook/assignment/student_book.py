@@ -4,7 +4,7 @@ results: nothing the key computes is anywhere in the file."""
 import unicodedata
 
 from crankbook.writer.fast_sheet import FastWorkbook
-from xlsxwriter.utility import xl_rowcol_to_cell
+from xlsxwriter.utility import xl_col_to_name, xl_rowcol_to_cell
 
 from crankbook.support.atomic import atomic_path
 from crankbook.spec.formulas import quote_sheet
@@ -160,10 +160,10 @@ def _given_sheet(book, given, lang, styles, define):
     sheet.write(0, 0, both("已知数据：气缸压力（绝对）", "Given data: cylinder pressure (absolute)",
                            lang), styles.title)
     named_at = 2 * PRINT_BLOCKS + 1
-    note = both(f"两个整数度之间按线性插值取值；同一数据在 {_column(named_at)}、"
-                f"{_column(named_at + 1)} 两列中各为一列",
+    note = both(f"两个整数度之间按线性插值取值；同一数据在 {xl_col_to_name(named_at)}、"
+                f"{xl_col_to_name(named_at + 1)} 两列中各为一列",
                 f"between two whole degrees, interpolate linearly; the same data in one "
-                f"column each in {_column(named_at)} and {_column(named_at + 1)}", lang)
+                f"column each in {xl_col_to_name(named_at)} and {xl_col_to_name(named_at + 1)}", lang)
     sheet.merge_range(1, 0, 1, 2 * PRINT_BLOCKS - 1, note, styles.subtitle_wrap)
     sheet.set_row(1, row_points([(note, 2 * PRINT_BLOCKS * PRINT_WIDTH)]))
     angles, pressures = given["crank_angle"], given["pressure"]
@@ -195,10 +195,6 @@ def _given_sheet(book, given, lang, styles, define):
     sheet.freeze_panes(5, 0)
     sheet.repeat_rows(3, 4)
     return sheet, last
-
-
-def _column(col):
-    return xl_rowcol_to_cell(0, col).rstrip("0123456789")
 
 
 def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, answer, rows):
