@@ -160,10 +160,10 @@ def _given_sheet(book, given, lang, styles, define):
     sheet.write(0, 0, both("已知数据：气缸压力（绝对）", "Given data: cylinder pressure (absolute)",
                            lang), styles.title)
     named_at = 2 * PRINT_BLOCKS + 1
-    note = both(f"两个整数度之间按线性插值取值；同一数据在 {xl_col_to_name(named_at)}、"
-                f"{xl_col_to_name(named_at + 1)} 两列中各为一列",
+    first, second = xl_col_to_name(named_at), xl_col_to_name(named_at + 1)
+    note = both(f"两个整数度之间按线性插值取值；同一数据在 {first}、{second} 两列中各为一列",
                 f"between two whole degrees, interpolate linearly; the same data in one "
-                f"column each in {xl_col_to_name(named_at)} and {xl_col_to_name(named_at + 1)}", lang)
+                f"column each in {first} and {second}", lang)
     sheet.merge_range(1, 0, 1, 2 * PRINT_BLOCKS - 1, note, styles.subtitle_wrap)
     sheet.set_row(1, row_points([(note, 2 * PRINT_BLOCKS * PRINT_WIDTH)]))
     angles, pressures = given["crank_angle"], given["pressure"]
