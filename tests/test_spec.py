@@ -171,6 +171,14 @@ def test_unknown_column_set_and_rulebook_entry():
         from_data(data)
 
 
+@pytest.mark.parametrize("curves", [0, -1, 2.5, "3"])
+def test_a_charts_curve_count_is_a_whole_number(curves):
+    data = _minimal()
+    data["sheet"][0]["charts"] = [{"y": ["x"], "curves": curves}]
+    with pytest.raises(SpecError, match="s: chart: curves must be a whole number"):
+        from_data(data)
+
+
 # ---------------------------------------------------------------- the placeholders
 def test_placeholders_parse_and_unparse():
     text = ('IF({x}<{item},{sum:cylinder(IF({throw}<{item},{torque:items},0))},'

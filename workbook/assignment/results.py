@@ -441,13 +441,12 @@ def write_class_report(path, assignment, lang, grades):
     students.set_column(2, 4, 14)
     notes_width = _width(notes.values(), 20, 90)
     students.set_column(5, 5, notes_width, styles.text)
-    top = book.add_format({**styles.base, "valign": "top"})
     for row, g in enumerate(grades, start=1):
-        students.write_string(row, 0, g.student_id, top)
-        students.write_string(row, 1, g.name, top)
-        students.write_string(row, 2, w.get(f"state_{g.status}", g.status), top)
+        students.write_string(row, 0, g.student_id, styles.top)
+        students.write_string(row, 1, g.name, styles.top)
+        students.write_string(row, 2, w.get(f"state_{g.status}", g.status), styles.top)
         if g.status == "graded":
-            students.write_number(row, 3, round(g.score, 2), top)
+            students.write_number(row, 3, round(g.score, 2), styles.top)
         flags = w["separator"].join(w.get(f"flag_{f}", f) for f in g.flags)
         students.write_string(row, 4, flags, styles.text)
         students.write_string(row, 5, notes[g.student_id], styles.text)

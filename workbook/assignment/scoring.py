@@ -102,8 +102,9 @@ def score_cell(label, value, expected, item, rubric, alternatives=(), consequent
     """One answer cell against the key.  Slips are judged in the item's own unit: the
     answer is converted back (value / factor) and must meet the item's tolerance and
     floor; an answer that is zero (within the floor, once converted back) never earns
-    slip credit — it is right only where the key itself is zero.  ``consequential``: the values (the
-    student's own mechanism's, and its alternatives) that earn consequential credit."""
+    slip credit — it is right only where the key itself is zero.  ``consequential``:
+    the values (the student's own mechanism's, and its alternatives) that earn
+    consequential credit."""
     number, typed = read_answer(value)
     if number is None:
         reason = "no_answer" if value is None or value == "" else "not_a_number"
@@ -226,34 +227,25 @@ def pair_positions(angles, key_angles, labels, tolerance, own_angles=None, row_l
 
 def _grouped(problems):
     """One note per kind where a student repeats a slip row after row (a column of
-    zeros gives 28 "given twice" notes): the rows or labels listed in one."""
-    twice, missing, second = {}, [], []
-    for word, fields in problems:
-        if word == "position_twice":
-            twice.setdefault(fields["label"], []).append(fields)
-        elif word == "position_missing":
-            missing.append(fields["label"])
-        elif word == "second_revolution":
-            second.append(fields)
-    out, done = [], set()
-    for word, fields in problems:
-        if word == "position_twice" and len(twice[fields["label"]]) > 1:
-            if fields["label"] not in done:
-                done.add(fields["label"])
-                rows = twice[fields["label"]]
-                out.append(("position_repeated", {
-                    "label": fields["label"], "first": rows[0]["first"],
-                    "count": len(rows) + 1, "rows": [f["second"] for f in rows]}))
-        elif word == "position_missing" and len(missing) > 1:
-            if word not in done:
-                done.add(word)
-                out.append(("positions_missing", {"labels": missing}))
-        elif word == "second_revolution" and len(second) > 1:
-            if word not in done:
-                done.add(word)
-                out.append(("second_revolutions", {"labels": [f["label"] for f in second]}))
+    zeros gives 28 "given twice" notes): the rows or labels listed in one, where the
+    first of them stood."""
+    runs = {}
+    for number, (word, fields) in enumerate(problems):
+        key = (word, fields["label"]) if word == "position_twice" else \
+            word if word in ("position_missing", "second_revolution") else number
+        runs.setdefault(key, []).append((word, fields))
+    out = []
+    for run in runs.values():
+        word, fields = run[0]
+        if len(run) == 1:
+            out.append(run[0])
+        elif word == "position_twice":
+            out.append(("position_repeated", {
+                "label": fields["label"], "first": fields["first"], "count": len(run) + 1,
+                "rows": [f["second"] for _, f in run]}))
         else:
-            out.append((word, fields))
+            plural = "positions_missing" if word == "position_missing" else "second_revolutions"
+            out.append((plural, {"labels": [f["label"] for _, f in run]}))
     return out
 
 

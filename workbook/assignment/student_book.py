@@ -84,9 +84,6 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
     widths = [max(TASK_WIDTHS[0], *(len(p.key) + 2 for p in shown)), *TASK_WIDTHS[1:]]
     for col, width in enumerate(widths):
         task.set_column(col, col, width)
-    top = book.add_format({**styles.base, "valign": "top"})
-    key_top = book.add_format({**styles.base, "font_name": "Consolas",
-                               "font_color": "#1F3864", "valign": "top"})
     task.write(0, 0, assignment.name(lang), styles.title)
     other = assignment.en if lang == "zh" else assignment.zh
     task.write(1, 0, other, styles.subtitle)
@@ -107,12 +104,13 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
     # the pressure is given as a table instead; inputs the task does not use are left out
     for parameter in shown:
         row += 1
-        task.write(row, 0, parameter.key, key_top)
+        task.write(row, 0, parameter.key, styles.key_top)
         if parameter.kind == "choice":            # the word, as the full workbook shows it
-            task.write_string(row, 1, parameter.choices[int(values[parameter.key]) - 1], top)
+            task.write_string(row, 1, parameter.choices[int(values[parameter.key]) - 1],
+                              styles.top)
         else:
-            task.write_number(row, 1, float(values[parameter.key]), top)
-        task.write(row, 2, unit_text(parameter.unit), top)
+            task.write_number(row, 1, float(values[parameter.key]), styles.top)
+        task.write(row, 2, unit_text(parameter.unit), styles.top)
         task.write(row, 3, parameter.zh, styles.text)
         task.write(row, 4, parameter.en, styles.text)
         task.set_row(row, row_points([(parameter.zh, widths[3]), (parameter.en, widths[4])]))

@@ -17,7 +17,7 @@ from crankbook.support.atomic import atomic_path
 from crankbook.audit.claims import (FORMULA_AGREEMENT, INPUT, NOISE_FLOOR, STATUS_OF_KIND,
                                     VERDICTS, coverage, shown)
 from crankbook.writer.build import FIXED_TIME
-from crankbook.writer.print_setup import A4, row_points
+from crankbook.writer.print_setup import A4, print_scale, row_points
 from crankbook.writer.styles import Styles
 
 # (label, width in characters, wrapped).  The columns an auditor signs come first and
@@ -323,9 +323,7 @@ def _page_setup(ws, last):
     ws.set_landscape()
     ws.set_margins(left=0.4, right=0.4, top=0.5, bottom=0.5)
     ws.set_v_pagebreaks([len(SIGNED)])
-    # LibreOffice draws a character of Arial 10 eight pixels wide (Excel seven)
-    room = (842 - 2 * 0.4 * 72) * 4 / 3
-    ws.set_print_scale(min(100, int(100 * room / sum(8 * w + 5 for _, w, _ in SIGNED))))
+    ws.set_print_scale(int(100 * print_scale([w for _, w, _ in SIGNED], 842 - 2 * 0.4 * 72)))
     ws.set_footer("&L&A&R&P / &N")
 
 

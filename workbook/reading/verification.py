@@ -4,8 +4,6 @@ The engine recalculates the file (LibreOffice with recalculation forced, or
 Gnumeric); every q_ name read back is compared, by crankbook.reading.compare's one rule,
 with the calc functions evaluated on the workbook's own inputs.
 """
-
-
 from crankbook.spec import params
 
 from crankbook.reading import recalc
@@ -52,7 +50,6 @@ def verify_workbooks(paths, engine="libreoffice", workdir=None, progress=None):
                                                  "verify: comparing", progress=progress):
             frames.append(_compared(path, named, cached, after, engine))
     return frames
-
 
 
 def _compared(path, named, cached, converted, engine):

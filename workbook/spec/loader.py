@@ -267,6 +267,10 @@ def _chart(entry, sheet_entry, file):
     if unknown:
         raise SpecError(file, sheet_entry["key"], f"chart: unknown field(s) "
                                                   f"{', '.join(sorted(unknown))}")
+    curves = entry.get("curves")
+    if curves is not None and (type(curves) is not int or curves < 1):
+        raise SpecError(file, sheet_entry["key"], f"chart: curves must be a whole number "
+                                                  f"of items, at least 1 (not {curves!r})")
     return Chart(y=tuple(entry["y"]), x=entry.get("x"), x_each=tuple(entry.get("x_each", ())),
                  title_zh=entry.get("title_zh", sheet_entry.get("title_zh", "")),
                  title_en=entry.get("title_en", sheet_entry.get("title_en", "")),

@@ -101,6 +101,13 @@ def landscape_report(ws, layout, sheet_spec, rows, last_col, chart_col):
     ws.repeat_columns(0, 0)
 
 
+def print_scale(widths, printable=PRINTABLE_POINTS[0]):
+    """The fraction of full size at which columns ``widths`` (characters) fit across
+    ``printable`` points: LibreOffice draws a character of the columns' Arial 10 eight
+    pixels wide (Excel seven), so the estimate holds for both."""
+    return min(1.0, printable * 4 / 3 / sum(8 * w + 5 for w in widths))
+
+
 def landscape_page(ws, widths=None, last_row=None):
     """A4 landscape, one page wide (tables of a few dozen rows).  Given the columns'
     ``widths`` (characters) and the last printed row, a table whose last page would
@@ -110,9 +117,8 @@ def landscape_page(ws, widths=None, last_row=None):
     ws.fit_to_pages(1, 0)
     if widths is None:
         return
-    # LibreOffice draws a character of the columns' Arial 10 eight pixels wide (Excel
-    # seven) and a row of its own height up to 17 pt tall (with CJK glyphs)
-    scale = min(1.0, PRINTABLE_POINTS[0] * 4 / 3 / sum(8 * w + 5 for w in widths))
+    scale = print_scale(widths)
+    # LibreOffice makes a row of its own height up to 17 pt tall (with CJK glyphs)
     points = sum(ws.row_sizes[row][0] * 0.75 if row in ws.row_sizes else 17
                  for row in range(last_row + 1))
     pages = points * scale / PRINTABLE_POINTS[1]

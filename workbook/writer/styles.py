@@ -39,6 +39,9 @@ class Styles:
         self.group = self._make(bold=True, bg_color="#F2F2F2")
         self.text = self._make(text_wrap=True, valign="top")
         self.key = self._make(font_name="Consolas", font_color="#1F3864")
+        # cells beside wrapped text in a tall row: at its top, like the text
+        self.top = self._make(valign="top")
+        self.key_top = self._make(font_name="Consolas", font_color="#1F3864", valign="top")
         self.status = self._make(bold=True, text_wrap=True, border=2, valign="vcenter")
         self.status_ok = book.add_format({"bg_color": "#E2EFDA", "font_color": "#375623"})
         self.status_bad = book.add_format({"bg_color": "#FFC7CE", "font_color": "#9C0006"})
