@@ -1,5 +1,7 @@
 """The command line as a user meets it: bad input gives one line, exit 2, no file."""
 import hashlib
+import os
+from pathlib import Path
 
 import pytest
 
@@ -62,6 +64,35 @@ def test_bad_pressure_files_are_refused(tmp_path, name, content, expected):
     output = tmp_path / "out" / "out.xlsx"
     output.parent.mkdir()
     _assert_clean_refusal(run_cli("build", "-o", output, "--pressure", trace), expected, output)
+
+
+SPECIAL_PATHS = [
+    (("build", "-o", "{out}", "--pressure", "{path}"), "pressure file"),
+    (("assign", "--roster", "{path}", "-o", "{out}"), "roster"),
+    (("check", "{path}"), ""),
+    (("assign", "--roster", "{roster}", "--assignment", "{path}", "-o", "{out}"), "assignment"),
+]
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device", "folder"])
+@pytest.mark.parametrize("args,named", SPECIAL_PATHS)
+def test_a_path_that_is_not_a_file_is_named_as_such(tmp_path, kind, args, named):
+    """A pipe would block the read and a device never end it: each is refused at
+    once, in words that say what the path is (not "no such file")."""
+    path = {"fifo": tmp_path / "trace.csv", "device": Path("/dev/zero"),
+            "folder": tmp_path / "folder.csv"}[kind]
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "folder":
+        path.mkdir()
+    output, roster = tmp_path / "out.xlsx", tmp_path / "roster.csv"
+    roster.write_text("student_id,name\ns001,Li\n")
+    done = run_cli(*(a.format(path=path, out=output, roster=roster) for a in args), timeout=60)
+    assert done.returncode == 2, done.stderr
+    assert "Traceback" not in done.stderr and "no such file" not in done.stderr
+    said = {"fifo": "named pipe", "device": "a device", "folder": "a folder"}[kind]
+    assert said in done.stderr and named in done.stderr and path.name in done.stderr
+    assert not output.exists()
 
 
 def test_same_input_same_bytes(tmp_path):

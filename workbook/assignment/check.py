@@ -19,6 +19,7 @@ from crankbook.assignment.student_book import TASK
 from crankbook.errors import CrankbookError
 from crankbook.reading.workbook_reader import parse_reference
 from crankbook.reading.xlsx_reader import Unreadable, XlsxBook
+from crankbook.support.paths import require_file
 
 LOST = ("not_a_number", "wrong_unit")          # cell reasons whose answer grading cannot use
 
@@ -88,8 +89,7 @@ def check(path):
     from crankbook.assignment.grade import answer_shapes, grade_submission
     from crankbook.assignment.submissions import Submission, read
     path = Path(path)
-    if not path.is_file():
-        raise CrankbookError(f"{path}: no such file")
+    require_file(path, CrankbookError)
     try:
         key, lang, typed = _file_facts(path)
     except (Unreadable, CrankbookError) as reason:     # no language to speak yet: both

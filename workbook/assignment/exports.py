@@ -26,6 +26,7 @@ from crankbook.assignment.results import WORKBOOK_OPTIONS, lms_text
 from crankbook.support.csv_safety import csv_text
 from crankbook.errors import CrankbookError
 from crankbook.writer.build import FIXED_TIME
+from crankbook.support.paths import require_file
 
 LMS = ("generic", "moodle", "canvas", "xuexitong")
 MOODLE_COLUMNS = ("Identifier", "Full name", "Email address", "Status", "Grade",
@@ -74,6 +75,7 @@ def write_lms(directory, lms, template, assignment, lang, grades, mode, missing_
 
 
 def _moodle_rows(path):
+    require_file(path, CrankbookError, "--lms-template")
     try:
         text = Path(path).read_bytes()[:5_000_000].decode("utf-8-sig")
     except (OSError, UnicodeDecodeError) as error:

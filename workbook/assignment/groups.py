@@ -18,6 +18,7 @@ from crankbook.spec import params
 from crankbook.support import resources
 from crankbook.assignment.roster import excel_text
 from crankbook.errors import RosterError, UnknownGroupError
+from crankbook.support.paths import require_file
 
 GROUP_COLUMNS = ("组号", "group", "小组", "组", "group number")
 NUMBER_COLUMNS = ("number", "组号", "group")
@@ -77,8 +78,7 @@ def group_table(spec, preset, source):
 
 
 def _teachers_table(path):
-    if not path.is_file():
-        raise UnknownGroupError(f"--groups {path}: no such file")
+    require_file(path, UnknownGroupError, "--groups")
     data = path.read_bytes()[:2_000_000]
     if path.suffix.lower() == ".toml":
         try:

@@ -19,6 +19,7 @@ from dataclasses import dataclass, replace
 
 from crankbook.assignment.roster import excel_text
 from crankbook.errors import CrankbookError
+from crankbook.support.paths import require_file
 
 ACTIONS = ("accept", "points", "waive-flag")
 COLUMNS = ("student", "item", "action", "points", "reason", "who")
@@ -48,6 +49,7 @@ class Override:
 
 def read_overrides(path, roster_ids, item_keys):
     """The Overrides of ``path``, every row checked against the roster and the items."""
+    require_file(path, OverridesError, "overrides")
     try:
         raw = open(path, "rb").read(2_000_000)
     except OSError as error:

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from crankbook.errors import RosterError
 from crankbook.reading.xlsx_reader import Unreadable, XlsxBook, sheet_rows
+from crankbook.support.paths import require_file
 
 ALIASES = {
     "student_id": ("student_id", "student id", "id", "student number", "学号", "学生编号",
@@ -49,8 +50,7 @@ def excel_text(raw, what, error=RosterError):
 
 def _rows(path):
     path = Path(path)
-    if not path.is_file():
-        raise RosterError(f"roster {path}: no such file")
+    require_file(path, RosterError, "roster")
     if path.stat().st_size > MAX_BYTES:
         raise RosterError(f"roster {path}: larger than {MAX_BYTES // 2**20} MB")
     if path.suffix.lower() in (".xlsx", ".xlsm"):

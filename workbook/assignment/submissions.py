@@ -21,6 +21,7 @@ from crankbook.reading import recalc
 from crankbook.errors import CrankbookError
 from crankbook.reading.workbook_reader import parse_reference
 from crankbook.reading.xlsx_reader import MAX_FILE, Unreadable, XlsxBook
+from crankbook.support.paths import not_a_file
 from crankbook.support.progress import waiting
 from crankbook.support.workspace import temporary_directory
 
@@ -85,13 +86,8 @@ def _not_regular(path, root):
         real, top = os.path.realpath(path), os.path.realpath(root)
         if os.path.commonpath([real, top]) != top:
             return "a link that leaves the submissions folder: not read"
-        status = os.stat(path)
-    if stat.S_ISREG(status.st_mode):
-        return None
-    kind = ("a named pipe (FIFO)" if stat.S_ISFIFO(status.st_mode) else
-            "a device" if stat.S_ISCHR(status.st_mode) or stat.S_ISBLK(status.st_mode) else
-            "a socket" if stat.S_ISSOCK(status.st_mode) else "not a file")
-    return f"{kind}, not a regular file: not read"
+    reason = not_a_file(path)
+    return f"{reason}: not read" if reason else None
 
 
 def prepare(paths, root):

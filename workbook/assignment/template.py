@@ -9,6 +9,7 @@ from crankbook.support import resources
 
 from crankbook.spec import units
 from crankbook.errors import SpecError, UnknownPresetError
+from crankbook.support.paths import require_file
 
 ASSIGNMENTS = "assignments"
 SLIPS = ("unit", "sign")
@@ -146,6 +147,7 @@ def for_preset(preset):
 def load(name, path=None):
     """An assignment template by name, or from ``path`` (the copy in a class directory)."""
     if path is not None:
+        require_file(path, UnknownPresetError, "assignment")
         try:
             with open(path, "rb") as handle:
                 data = tomllib.load(handle)

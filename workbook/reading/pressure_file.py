@@ -21,6 +21,7 @@ import numpy as np
 from crankbook.errors import PressureFileError
 from crankbook.spec.params import NUMBER
 from crankbook.reading.xlsx_reader import Unreadable, XlsxBook, sheet_rows
+from crankbook.support.paths import require_file
 
 MAX_GAP = 30.0             # deg: a coarser trace does not describe the cycle
 MAX_PRESSURE = 50.0        # MPa: beyond any engine; such numbers are kPa or bar
@@ -92,8 +93,7 @@ class Traces:
 
 def _rows_of_file(path):
     path = Path(path)
-    if not path.is_file():
-        raise PressureFileError(f"pressure file {path}: no such file")
+    require_file(path, PressureFileError, "pressure file")
     if path.stat().st_size > MAX_BYTES:
         raise PressureFileError(f"pressure file {path}: larger than "
                                 f"{MAX_BYTES // 2 ** 20} MB")

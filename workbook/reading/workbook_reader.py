@@ -15,6 +15,7 @@ from crankbook.errors import CrankbookError, WorkbookReadError
 from crankbook.spec.evaluate import MAX_ROWS
 from crankbook.reading.xlsx_reader import Unreadable, XlsxBook
 from crankbook.spec.loader import load as load_spec, template_names
+from crankbook.support.paths import require_file
 from crankbook.writer.build import (PROPERTY_ASSIGNMENT, PROPERTY_PRESET, PROPERTY_ROLE,
                                     PROPERTY_STEPS, PROPERTY_TEMPLATE)
 
@@ -127,8 +128,7 @@ def formulas(book, found):
 def open_book(path):
     """A checked, bounded XlsxBook, or WorkbookReadError with the reason."""
     path = Path(path)
-    if not path.is_file():
-        raise WorkbookReadError(f"{path}: no such file")
+    require_file(path, WorkbookReadError)
     try:
         return XlsxBook(path)
     except Unreadable as reason:
