@@ -5,6 +5,7 @@ language, resubmission, no answer leaks, bad rosters, hostile files."""
 import csv
 import hashlib
 import io
+import json
 import math
 import re
 import shutil
@@ -448,6 +449,35 @@ def test_same_roster_and_seed_give_identical_files(pack, tmp_path):
     with open(tmp_path / "a" / "manifest.csv", encoding="utf-8-sig") as a, \
             open(pack / "manifest.csv", encoding="utf-8-sig") as b:
         assert list(csv.DictReader(a)) == list(csv.DictReader(b))[:3]
+
+
+def test_without_a_seed_the_class_gets_a_secret_one_it_can_redraw(tmp_path):
+    """A student who knows the seed draws their own key, and a small seed is found by
+    trying seeds: the default is a random seed, printed to the teacher and kept in
+    the class's settings, that redraws the same tasks when given back; a small one
+    given on purpose is warned about."""
+    roster = tmp_path / "roster.csv"
+    write_roster(roster, ROSTER[:2])
+    runs = [run_cli("assign", "--roster", roster, "--lang", "en", "-o", tmp_path / out)
+            for out in ("a", "b")]
+    seeds = [json.loads((tmp_path / out / "assignment.json").read_text())["seed"]
+             for out in ("a", "b")]
+    for done, seed in zip(runs, seeds):
+        assert done.returncode == 0, done.stderr
+        assert f"--seed {seed}" in done.stdout and "warning" not in done.stderr
+        assert seed >= 10 ** 17
+    assert seeds[0] != seeds[1]
+    student = ROSTER[0]
+    files = [(tmp_path / out / "students" / f"{student}.xlsx").read_bytes()
+             for out in ("a", "b")]
+    assert files[0] != files[1]                     # two secrets: two different tasks
+    again = run_cli("assign", "--roster", roster, "--seed", seeds[0], "--lang", "en", "-o",
+                    tmp_path / "c")
+    assert again.returncode == 0 and "warning" not in again.stderr
+    assert (tmp_path / "c" / "students" / f"{student}.xlsx").read_bytes() == files[0]
+    small = run_cli("assign", "--roster", roster, "--seed", "2026", "--lang", "en", "-o",
+                    tmp_path / "d")
+    assert small.returncode == 0 and "seed 2026 can be guessed" in small.stderr
 
 
 @pytest.mark.parametrize("encoding,headers", [

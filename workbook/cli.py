@@ -107,7 +107,11 @@ def _build_parser():
                         help="the class list: .csv (UTF-8, GBK or UTF-16, as Excel saves it) or "
                              ".xlsx, with an id column (student_id, id or 学号) and a name "
                              "column (name or 姓名); other columns are kept")
-    assign.add_argument("--seed", type=int, default=1, help="variant seed (default 1)")
+    assign.add_argument("--seed", type=int, default=None,
+                        help="variant seed: with it and a student's id anyone who has "
+                             "crankbook draws that student's key, so keep it secret (default: "
+                             "a random 18-digit seed, kept in DIR/assignment.json; give it "
+                             "again to draw the same tasks, e.g. for a late student)")
     assign.add_argument("--lang", choices=LANGS, default="zh")
     assign.add_argument("-o", "--output", required=True, metavar="DIR")
     assign.add_argument("--assignment", metavar="FILE",
@@ -358,15 +362,21 @@ def _what_it_is(path, spec):
 
 def _assign(args):
     from crankbook.assignment.assign import assign
-
     from crankbook.assignment.results import words
+    from crankbook.assignment.variants import guessable, secret_seed
 
+    w = words(args.lang)
+    seed = secret_seed() if args.seed is None else args.seed
+    if guessable(seed):
+        print(w["cli_seed_guessable"].format(seed=seed), file=sys.stderr)
     started = time.perf_counter()
-    count = assign(args.preset, args.roster, args.seed, args.lang, args.output,
+    count = assign(args.preset, args.roster, seed, args.lang, args.output,
                    progress=_progress(args), groups=args.groups,
                    assignment_file=args.assignment)
-    print(words(args.lang)["cli_assigned"].format(output=args.output, count=count,
-                                                  seconds=time.perf_counter() - started))
+    print(w["cli_assigned"].format(output=args.output, count=count,
+                                   seconds=time.perf_counter() - started))
+    if args.seed is None:
+        print(w["cli_seed_drawn"].format(seed=seed, output=args.output))
     return 0
 
 

@@ -4,9 +4,13 @@ assignment lists (cams above their smallest base radius, no undercut, no pointed
 tooth, …), no two alike.
 
 A student's draw depends only on the seed and their id, so adding a student
-changes nobody else's task and the same roster and seed give the same files.
+changes nobody else's task and the same roster and seed give the same files.  The
+seed is therefore the class's secret: crankbook is public, and a student who knows
+it draws their own key.  A small seed is found by trying seeds until one draws the
+task the student was given, so the default is a random one (``secret_seed``).
 """
 import hashlib
+import secrets
 
 import numpy as np
 
@@ -17,6 +21,17 @@ from crankbook.support.arithmetic import ArithmeticError_, evaluate as arithmeti
 from crankbook.errors import CrankbookError, SpecError
 
 MAX_ATTEMPTS = 500
+GUESSABLE_SEED = 10 ** 12      # below this a student's computer tries every seed in days
+
+
+def secret_seed():
+    """A random seed of 18 digits: too many to try, short enough to copy."""
+    return 10 ** 17 + secrets.randbelow(9 * 10 ** 17)
+
+
+def guessable(seed):
+    """True for a seed a student could find by trying seeds against their own task."""
+    return abs(seed) < GUESSABLE_SEED
 
 
 def student_rng(seed, student_id):
