@@ -112,6 +112,13 @@ def test_the_audit_prints_what_an_auditor_signs(tmp_path, soffice):
     assert any(re.search(r"^\s*key\s+section\s+line\s+derived", page, re.M) for page in pages)
     scales = {int(s) for s in re.findall(r'scale="(\d+)"', _sheet_xml(book, "thesis"))}
     assert scales and min(scales) >= 65                  # 10-point text at 6.5 points
+    # the summary page: the table, the chart with a bar label per document and the
+    # whole key of verdicts on one page
+    from crankbook.audit.claims import VERDICTS, document_names
+    first = pages[0]
+    assert all(meaning in first.replace("\n", " ") for meaning in VERDICTS.values()), first
+    for key in document_names():
+        assert first.count(key) >= 2, key                 # its table row and its bar
 
 
 def test_a_student_workbook_and_the_teachers_reports_print(tmp_path, soffice):

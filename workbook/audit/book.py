@@ -260,16 +260,17 @@ def _write_summary(book, ws, documents, names, formats, status_formats, sources)
                           "fill": {"color": COLOURS[status]}, "border": {"color": "#808080"}})
     chart.set_title({"name": "Verdicts per document"})
     chart.set_x_axis({"name": "claims"})
-    chart.set_legend({"position": "bottom"})
-    chart.set_size({"width": 720, "height": 300})
+    chart.set_legend({"position": "right"})     # below, it would squeeze out bar labels
+    chart.set_size({"width": 720, "height": 240})           # 12 rows of 20 px
     ws.insert_chart(last + 2, 0, chart)
-    row = last + 19
+    row = last + 15
     ws.write(row, 0, "Verdicts", styles.group)
     for status, meaning in VERDICTS.items():
         row += 1
         ws.write(row, 0, status, status_formats[status])
         ws.merge_range(row, 1, row, total_col + 3, meaning, formats.wrap)
     row += 2
+    ws.set_h_pagebreaks([row])        # the table, chart and key on one page; coverage next
     ws.write(row, 0, "Coverage", styles.group)
     for document in documents:
         for text in _coverage_lines(coverage_of(document, sources)):
