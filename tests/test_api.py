@@ -1,5 +1,6 @@
 """The Python API: compute, Results, to_excel, read, verify — and the defects of
 issue 9 (English status, engine-saved files audited, near-zero scalars, caches)."""
+import re
 import zipfile
 
 import numpy as np
@@ -87,6 +88,26 @@ def test_read_gives_back_what_compute_wrote(tmp_path, thesis):
         assert np.allclose(np.asarray(back[key], float), np.asarray(value, float), rtol=1e-15,
                            atol=0, equal_nan=True), key
     pd.testing.assert_frame_equal(back.series(), thesis.series())
+
+
+def test_a_workbook_from_before_an_input_existed_reads_with_its_default(tmp_path, thesis):
+    """A workbook written by an earlier crankbook lacks the inputs added since: read
+    takes their defaults (the behaviour the earlier version computed), per-item ones
+    one per item."""
+    path = thesis.to_excel(tmp_path / "thesis.xlsx", lang="en")
+    older = tmp_path / "older.xlsx"
+    with zipfile.ZipFile(path) as zin, zipfile.ZipFile(older, "w") as zout:
+        for item in zin.infolist():
+            data = zin.read(item.filename)
+            if item.filename == "xl/workbook.xml":
+                data, count = re.subn(rb'<definedName name="p_(operating_)?trace_speed"[^<]*'
+                                      rb'</definedName>', b"", data)
+                assert count == 2
+            zout.writestr(item, data)
+    back = crankbook.read(older)
+    assert back.parameters["trace_speed"] == 0.0
+    assert back.parameters["operating_trace_speed"] == [0.0] * 12
+    assert back.scalars["mean_torque"] == thesis.scalars["mean_torque"]
 
 
 def test_workbooks_record_what_wrote_them(tmp_path, thesis):

@@ -168,7 +168,10 @@ def read_inputs(book, spec, ranges, path):
     for p in spec.parameters:
         name = f"p_{p.key}"
         if name not in ranges:
-            raise WorkbookReadError(f"{path}: the defined name {name} is missing")
+            # a workbook written before this input existed: its default is the
+            # behaviour the earlier version computed with
+            values[p.key] = list(p.default) if p.axis else p.default
+            continue
         found = ranges[name]
         if p.axis:
             if found.cols != 1 or found.rows > spec.axis[p.axis].max:
@@ -277,6 +280,7 @@ def role_of(book, ranges):
 def load_named(path):
     """(book, spec, template, ranges, values, tables, grids, sizes, grid rows)."""
     from crankbook.spec.evaluate import axis_sizes
+    from crankbook.spec.params import fit_derived_items
     book = open_book(path)
     ranges = defined_ranges(book)
     role, assignment = role_of(book, ranges)
@@ -290,6 +294,7 @@ def load_named(path):
     values, tables, grids = read_inputs(book, spec, ranges, path)
     try:
         sizes = axis_sizes(spec, values)
+        values = fit_derived_items(spec, values, sizes)      # a missing column's default
     except CrankbookError as error:
         raise WorkbookReadError(f"{path}: {error}") from None
     return book, spec, template, ranges, values, tables, grids, sizes, grid_rows_of(
