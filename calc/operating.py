@@ -299,3 +299,20 @@ def traces_mismatch(operating_trace_count, operating_speed, operating_trace_pres
     columns = np.shape(operating_trace_pressure)[-1] if np.ndim(operating_trace_pressure) == 2 \
         else 1
     return float(count > 0 and (count != np.size(operating_speed) or count != columns))
+
+
+def trace_speed_mismatch(pressure_source, trace_speed, speed):
+    """1 when the measured trace in use was recorded at another speed than the design
+    speed (``trace_speed`` 0: not stated, never a mismatch), else 0."""
+    return float(round(float(pressure_source)) == 1 and trace_speed > 0 and trace_speed != speed)
+
+
+def point_trace_speed_mismatch(pressure_source, operating_trace_count, operating_trace_speed,
+                               operating_speed):
+    """1 when some operating point's own measured trace was recorded at another speed
+    than the point's, else 0 (always 0 where the points share one pressure)."""
+    speeds = np.atleast_1d(np.asarray(operating_speed, dtype=float))
+    recorded = np.broadcast_to(np.atleast_1d(np.asarray(operating_trace_speed, dtype=float)),
+                               speeds.shape)
+    per_point = round(float(pressure_source)) == 1 and round(float(operating_trace_count)) > 0
+    return float(per_point and np.any((recorded > 0) & (recorded != speeds)))

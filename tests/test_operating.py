@@ -128,3 +128,26 @@ def test_speeds_without_a_column_are_refused(tmp_path):
 def test_trace_count_must_match_the_points():
     with pytest.raises(CrankbookError, match="operating_trace_count"):
         crankbook.compute("thesis", operating_trace_count=3)
+
+
+def test_a_trace_is_tied_to_the_speed_it_was_recorded_at(tmp_path):
+    """Each trace of a bench file keeps its column's speed; a design speed or a point's
+    speed that differs from its trace's is refused, naming both (the workbook blanks
+    its results and says the same in its status cell: test_cross_check)."""
+    write_traces(tmp_path / "bench.csv", [2000.0, 3000.0, 5000.0])
+    r = crankbook.compute("thesis", pressure=tmp_path / "bench.csv")
+    assert r.parameters["trace_speed"] == 5000.0
+    assert r.parameters["operating_trace_speed"] == [2000.0, 3000.0, 5000.0]
+    with pytest.raises(CrankbookError, match="trace_speed = 4000 rpm, speed = 5000 rpm: "
+                                             "the Pressure sheet's measured trace was recorded"):
+        crankbook.compute("thesis", pressure=tmp_path / "bench.csv", trace_speed=4000)
+    with pytest.raises(CrankbookError, match="operating_trace_speed = 2000,2500,5000 rpm: "
+                                             "a point's measured trace was recorded at another"):
+        crankbook.compute("thesis", pressure=tmp_path / "bench.csv",
+                          operating_trace_speed=[2000, 2500, 5000])
+    # the model, or a trace of no stated speed, serves any speed
+    assert crankbook.compute("thesis", trace_speed=4000).scalars["mean_torque"] > 0
+    plain = crankbook.compute("thesis", operating_speed=[1000, 2000])
+    assert plain.parameters["operating_trace_speed"] == [0.0, 0.0]
+    with pytest.raises(CrankbookError, match="operating_trace_speed has 3 values, one per point"):
+        crankbook.compute("thesis", operating_speed=[1000, 2000], operating_trace_speed=[0, 0, 0])

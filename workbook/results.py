@@ -177,6 +177,10 @@ def _trace_inputs(spec, traces, values, given, what):
                                f"column in {what} (its speeds: {shown} r/min): set speed to "
                                f"one of them")
     values.update(operating_speed=listed, operating_trace_count=float(len(listed)))
+    # each trace is tied to the speed of its column (a later edit of a speed in the
+    # workbook is then caught by the trace-speed rules); typed values are the user's
+    recorded = {"trace_speed": float(values["speed"]), "operating_trace_speed": listed}
+    values.update({key: value for key, value in recorded.items() if key not in given})
     tables = {"trace_crank_angle": traces.angles, "trace_pressure": traces.column(values["speed"]),
               "operating_trace_pressure": np.column_stack([traces.column(v) for v in listed])}
     return tables, values

@@ -79,7 +79,9 @@ def axis_sizes(spec, values):
                     for name, source in axis.size_args.items()}
             sizes[axis.key] = int(function(**args))
             continue
-        lengths = {p.key: len(values[p.key]) for p in spec.item_parameters(axis.key)}
+        columns = spec.item_parameters(axis.key)
+        lengths = {p.key: len(values[p.key]) for p in columns if not p.fill} or \
+            {p.key: len(values[p.key]) for p in columns}
         if len(set(lengths.values())) != 1:
             listing = ", ".join(f"{k} has {n}" for k, n in lengths.items())
             raise LayoutError(f"the {axis.en.lower()} table's columns are set together: "

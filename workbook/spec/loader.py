@@ -148,7 +148,7 @@ def _grid(entry, period=None, step_option=None):
 def _parameter(entry):
     file = entry.get("_file", "?")
     known = {"key", "group", "unit", "zh", "en", "default", "kind", "min", "max", "min_open",
-             "max_open", "choices", "axis", "_file"}
+             "max_open", "choices", "axis", "fill", "_file"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, entry.get("key", "?"),

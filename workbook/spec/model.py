@@ -41,6 +41,8 @@ class Parameter:
     max_open: bool = False
     choices: tuple = ()
     axis: str | None = None       # per-item parameter: one value per item of this axis
+    fill: bool = False            # per-item: its one-value default fills every item the
+                                  # axis's other columns make (typed: one per item)
 
     def bounds_text(self):
         """The rule in words, e.g. '> 0 and ≤ 5000 mm'."""

@@ -222,12 +222,13 @@ def validate(spec, values, trace_points=0, tables=None, grids=None):
 
 def fit_derived_items(spec, values, sizes):
     """Per-item parameters of an axis sized by other inputs (a typed inertia per
-    station, whose count follows the throws): left at their default, one value per
-    item; typed, exactly one per item, else a LayoutError naming the parameter."""
+    station, whose count follows the throws; a ``fill`` column beside the one that sets
+    its axis): left at their default, one value per item; typed, exactly one per item,
+    else a LayoutError naming the parameter."""
     values = dict(values)
     for parameter in spec.parameters:
         axis = spec.axis.get(parameter.axis) if parameter.axis else None
-        if axis is None or not axis.size_calc:
+        if axis is None or not (axis.size_calc or parameter.fill):
             continue
         given, count = list(values[parameter.key]), sizes[axis.key]
         if len(given) == count:
