@@ -81,9 +81,14 @@ def validation(ws, row, col, parameter, lang):
 WIDTHS = [28, 16, 9, 60, 70, 24]       # key, value, unit, 中文, English, range
 
 
-def _describe(ws, row, zh, en, styles):
-    """The row's two descriptions, the row as tall as the longer one."""
-    wrapped_texts(ws, row, {3: (zh, WIDTHS[3]), 4: (en, WIDTHS[4])}, styles.text)
+def _describe(ws, row, zh, en, styles, allowed=None):
+    """The row's two descriptions (and a parameter's allowed range), wrapped, the row
+    as tall as the longest: a range wider than its column ("a whole number and ≥ 0
+    and ≤ 24") would otherwise be cut at the page's edge."""
+    texts = {3: (zh, WIDTHS[3]), 4: (en, WIDTHS[4])}
+    if allowed is not None:
+        texts[5] = (allowed, WIDTHS[5])
+    wrapped_texts(ws, row, texts, styles.text)
 
 
 def write_parameters_sheet(book, layout, values, results, preset, styles):
@@ -115,8 +120,7 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
             input_cell(ws, row, 1, item, values[item.key], styles)
             validation(ws, row, 1, item, lang)
             ws.write(row, 2, unit_text(item.unit))
-            _describe(ws, row, item.zh, item.en, styles)
-            ws.write(row, 5, item.bounds_text())
+            _describe(ws, row, item.zh, item.en, styles, allowed=item.bounds_text())
         elif entry.kind == "scalar":
             ws.write(row, 0, item.key, styles.key)
             write_formula_cell(ws, row, 1, item, layout, results, styles, name)
