@@ -27,6 +27,13 @@ def unit_text(unit):
     return {"deg": "°", "-": "–", "count": "–"}.get(unit, unit)
 
 
+def step_text(step, unit):
+    """A grid's print step as a note says it: 15°, 0.5 mm, 0.01 (a ratio)."""
+    if unit == "deg":
+        return f"{step:g}°"
+    return f"{step:g}" if unit in ("-", "count") else f"{step:g} {unit}"
+
+
 @dataclass
 class Row:
     """One row of the Parameters sheet: what it shows and where."""

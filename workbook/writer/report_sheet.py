@@ -12,8 +12,8 @@ import math
 from xlsxwriter.utility import xl_rowcol_to_cell
 
 from crankbook.spec.formulas import quote_sheet
-from crankbook.writer.layout import FIRST_ROW, FIXED_SHEETS, label
-from crankbook.writer.print_setup import A4
+from crankbook.writer.layout import FIRST_ROW, FIXED_SHEETS, label, step_text
+from crankbook.writer.print_setup import A4, wrapped_title
 from crankbook.writer.series_sheet import fit_header_rows, headers
 
 MAX_ROWS = 49              # printed rows of one block: one page tall
@@ -21,8 +21,8 @@ COLUMN_WIDTH = 12          # characters
 PAGE_WIDTH_PX = 1040       # A4 landscape less the margins, at 96 dpi
 PAGE_HEIGHT_PT = 595 - 72  # A4 landscape less the margins
 ROW_POINTS = 15            # a row of numbers
-NOTE = {"zh": "各计算表的列（公式引用各表），每 {step:g}° 一行；各表的完整数据与图表见各表，图表另见“图表”表。",
-        "en": "The columns of the quantity sheets (formulas on them), one row every {step:g}°; "
+NOTE = {"zh": "各计算表的列（公式引用各表），每 {step} 一行；各表的完整数据与图表见各表，图表另见“图表”表。",
+        "en": "The columns of the quantity sheets (formulas on them), one row every {step}; "
               "each sheet holds its full table and charts, and the Charts sheet the charts."}
 
 
@@ -77,7 +77,7 @@ def write_report_sheet(book, layout, results, styles):
     ws = book.add_worksheet(layout.sheet_name["report"])
     ws.write(0, 0, f"{FIXED_SHEETS['report'][lang]} / {FIXED_SHEETS['report'][layout.other]}",
              styles.title)
-    row, widest, tallest = 1, 0, 0
+    row, widest, tallest, notes = 1, 0, 0, []
     for grid in grids:
         columns = _columns(layout, grid)
         if not columns:
@@ -90,7 +90,7 @@ def write_report_sheet(book, layout, results, styles):
             step = spec.print_step
         values = results[grid]
         rows, step = printed_rows(list(map(float, values)), step)
-        ws.write(row, 0, NOTE[lang].format(step=step), styles.subtitle)
+        notes.append((row, NOTE[lang].format(step=step_text(step, grid_q.unit))))
         header = row + 1
         headers(ws, 0, (label(grid_q, lang), label(grid_q, layout.other)), grid_q.unit,
                 layout, styles, width=10, row=header)
@@ -115,16 +115,21 @@ def write_report_sheet(book, layout, results, styles):
     ws.set_column(0, 0, 10)
     ws.set_column(1, widest, COLUMN_WIDTH)
     scale = _scale(tallest)
-    per_page = max(1, int((PAGE_WIDTH_PX * 100 / scale - 75) / (COLUMN_WIDTH * 7 + 5)))
-    per_page = math.ceil(widest / math.ceil(widest / per_page))    # pages alike
+    capacity = max(1, int((PAGE_WIDTH_PX * 100 / scale - 75) / (COLUMN_WIDTH * 7 + 5)))
+    per_page = math.ceil(widest / math.ceil(widest / capacity))    # pages alike
     ws.set_v_pagebreaks(list(range(1 + per_page, widest + 1, per_page)))
+    # the notes wrap across the first page's columns (a page wide even when the table
+    # is narrower), so neither they nor the title are cut at the print area's edge
+    span = per_page if widest > capacity else capacity
+    for note_row, text in notes:
+        wrapped_title(ws, note_row, text, [10] + [COLUMN_WIDTH] * span, styles.subtitle)
     ws.repeat_columns(0, 0)
     ws.freeze_panes(0, 1)
     ws.set_paper(A4)
     ws.set_landscape()
     ws.set_margins(left=0.4, right=0.4, top=0.5, bottom=0.5)
     ws.set_print_scale(scale)
-    ws.print_area(0, 0, row, widest)
+    ws.print_area(0, 0, row, max(widest, span))
     return ws
 
 

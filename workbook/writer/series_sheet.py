@@ -6,7 +6,7 @@ import math
 from crankbook.spec.formulas import ROW, quote_sheet
 from crankbook.writer.charts import add_chart, chart_column_width
 from crankbook.writer.fast_sheet import FastWorksheet
-from crankbook.writer.layout import FIRST_ROW, label, unit_text
+from crankbook.writer.layout import FIRST_ROW, label, step_text, unit_text
 from crankbook.writer.print_setup import NO_PRINT, landscape_report, line_height, text_lines
 
 COLUMN_WIDTH = 15
@@ -91,7 +91,7 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
     step = sheet_spec.print_step or (spec.print_step if sheet_spec.grid == spec.grid.key
                                      else None)
     if step:
-        _group_between_print_steps(ws, grid, step, layout, styles)
+        _group_between_print_steps(ws, grid, step, layout, styles, sheet_spec.grid)
     landscape_report(ws, layout, sheet_spec, len(grid), last_col, chart_col)
     # The sheet is for the screen: its columns print on the results table at the print
     # step, its charts on the Charts sheet.  A print area on an empty cell makes Excel
@@ -101,7 +101,7 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
     return ws
 
 
-def _group_between_print_steps(ws, grid, step, layout, styles):
+def _group_between_print_steps(ws, grid, step, layout, styles, grid_key):
     """Rows between multiples of ``step`` are grouped and folded (click + to show
     them): the sheet opens and prints at the coarser step; charts plot every row."""
     ratio = [float(a) / step for a in grid]
@@ -111,8 +111,9 @@ def _group_between_print_steps(ws, grid, step, layout, styles):
     for i in folded:
         ws.set_row(FIRST_ROW + i, None, None, {"level": 1, "hidden": True})
     ws.outline_settings(True, False, True, False)
-    note = (f"每 {step:g}° 一行；其间各行已折叠（点左侧 + 展开），图表画出全部各行" if layout.lang == "zh"
-            else f"one row every {step:g}°; the rows between are folded (click + at the left to "
+    shown = step_text(step, layout.spec.quantity[grid_key].unit)
+    note = (f"每 {shown} 一行；其间各行已折叠（点左侧 + 展开），图表画出全部各行" if layout.lang == "zh"
+            else f"one row every {shown}; the rows between are folded (click + at the left to "
                  f"show them); the charts plot every row")
     ws.write(0, 8, note, styles.subtitle)
 
