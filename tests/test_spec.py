@@ -179,6 +179,16 @@ def test_a_charts_curve_count_is_a_whole_number(curves):
         from_data(data)
 
 
+@pytest.mark.parametrize("extra", [{}, {"axis": "cylinder", "default": [1.0, 2.0]},
+                                   {"axis": "cylinder", "default": 1.0}])
+def test_a_fill_parameter_has_an_axis_and_one_value(extra):
+    data = _minimal()
+    data["parameter"].append({"key": "z", "group": "g", "unit": "mm", "zh": "z", "en": "z",
+                              "default": 1.0, "fill": True, **extra})
+    with pytest.raises(SpecError, match="z: fill = true needs an axis and a one-value default"):
+        from_data(data)
+
+
 # ---------------------------------------------------------------- the placeholders
 def test_placeholders_parse_and_unparse():
     text = ('IF({x}<{item},{sum:cylinder(IF({throw}<{item},{torque:items},0))},'

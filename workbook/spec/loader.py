@@ -155,6 +155,10 @@ def _parameter(entry):
                         f"unknown field(s) {', '.join(sorted(unknown))}")
     for field in ("key", "group", "unit", "zh", "en", "default"):
         _need(entry, field, "parameter")
+    if entry.get("fill") and (not entry.get("axis") or not isinstance(entry["default"], list)
+                              or len(entry["default"]) != 1):
+        raise SpecError(file, entry["key"], "fill = true needs an axis and a one-value default "
+                                            "list (it fills every item)")
     values = {k: v for k, v in entry.items() if k != "_file"}
     if "choices" in values:
         values["choices"] = tuple(values["choices"])
