@@ -391,7 +391,7 @@ def _cut_at_print_edge(path):
 
 
 @pytest.mark.parametrize("preset", ["thesis", "course-design", "offset-optimization",
-                                    "compressor", "inline-6"])
+                                    "compressor"])
 @pytest.mark.parametrize("lang", ["zh", "en"])
 def test_no_text_runs_past_a_printed_edge(tmp_path, preset, lang):
     """An allowed range wider than its column, a results table's note over two
