@@ -117,7 +117,7 @@ def test_damaged_submissions_never_cost_the_valid_ones(pack, tmp_path, capsys, s
 @pytest.fixture(scope="module")
 def engine_book(tmp_path_factory):
     path = tmp_path_factory.mktemp("fuzz-engine") / "engine.xlsx"
-    assert cli.main(["build", "--step", "4", "-o", str(path)]) == 0
+    assert cli.main(["build", "--step", "12", "-o", str(path)]) == 0      # small: 30 audits
     return path
 
 
@@ -171,7 +171,7 @@ def test_damaged_pressure_traces_build_or_get_one_line(tmp_path, capsys):
     codes = []
     for path in files:
         out.unlink(missing_ok=True)
-        code, err = run(capsys, "build", "--step", "10", "--pressure", path, "-o", out)
+        code, err = run(capsys, "build", "--step", "30", "--pressure", path, "-o", out)
         assert code in (0, 2), (path.name, err)
         assert out.exists() == (code == 0), path.name
         if code == 2:
