@@ -399,3 +399,31 @@ def test_no_text_runs_past_a_printed_edge(tmp_path, preset, lang):
     step = None if preset == "offset-optimization" else 4       # a coarse grid: faster
     path = compute(preset, step=step).to_excel(tmp_path / f"{preset}.xlsx", lang=lang)
     assert not _cut_at_print_edge(path)
+
+
+def _legend_names(path):
+    """[(cell reference, cached text)] of every series name given by a cell."""
+    with zipfile.ZipFile(path) as z:
+        xml = "".join(z.read(n).decode() for n in sorted(z.namelist())
+                      if n.startswith("xl/charts/chart"))
+    return re.findall(r"<c:tx><c:strRef><c:f>([^<]+)</c:f><c:strCache>.*?<c:v>([^<]*)</c:v>",
+                      xml)
+
+
+def test_a_mode_the_grid_does_not_reach_says_so_in_the_legend(tmp_path, soffice):
+    """The mode-shape chart always has three curves; a mode above the Holzer grid has
+    none, and its legend entry says so — live, so raising the grid's top in the
+    workbook names the mode again."""
+    from tests.conftest import edit_cells
+    path = compute("inline-6", step=6, holzer_max_frequency=600.0).to_excel(
+        tmp_path / "i6.xlsx", lang="en")
+    names = dict(_legend_names(path))
+    assert sorted(names.values()) == ["Mode 1", "Mode 2 (none)", "Mode 3 (none)"]
+    edited = tmp_path / "edited.xlsx"
+    edit_cells(path, edited, {"holzer_max_frequency": 1200.0})
+    after = openpyxl.load_workbook(recalc.convert([edited], tmp_path / "lo")[0], data_only=True)
+    live = {}
+    for ref in names:
+        sheet, cell = ref.split("!")
+        live[ref] = after[sheet.strip("'")][cell.replace("$", "")].value
+    assert sorted(live.values()) == ["Mode 1", "Mode 2", "Mode 3 (none)"]

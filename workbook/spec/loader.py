@@ -266,7 +266,8 @@ def _chart(entry, sheet_entry, file):
     if isinstance(entry, (list, tuple)):
         entry = {"y": list(entry)}
     known = {"y", "x", "x_each", "title_zh", "title_en", "axis_zh", "axis_en", "unit", "x_axis_zh",
-             "x_axis_en", "x_unit", "equal_axes", "type", "log", "curve_zh", "curve_en", "curves"}
+             "x_axis_en", "x_unit", "equal_axes", "type", "log", "curve_zh", "curve_en", "curves",
+             "live_names"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, sheet_entry["key"], f"chart: unknown field(s) "
@@ -285,7 +286,7 @@ def _chart(entry, sheet_entry, file):
                  x_unit=entry.get("x_unit"), equal_axes=entry.get("equal_axes", False),
                  type=entry.get("type", "scatter"), log=bool(entry.get("log", False)),
                  curve_zh=entry.get("curve_zh", ""), curve_en=entry.get("curve_en", ""),
-                 curves=entry.get("curves"))
+                 curves=entry.get("curves"), live_names=bool(entry.get("live_names", False)))
 
 
 def _adopted_rules(data):

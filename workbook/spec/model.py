@@ -224,6 +224,8 @@ class Chart:
     curve_zh: str = ""            # per-item curves named "<curve> n" ("Mode 1") instead of
     curve_en: str = ""            # "<quantity> — <item label> n"
     curves: int | None = None     # per-item curves: only the first n items (lowest modes)
+    live_names: bool = False      # per-item curves' legend names are formulas that say
+                                  # when a curve has no values (a mode above the grid)
 
 
 @dataclass(frozen=True)

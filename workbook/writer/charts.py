@@ -100,6 +100,40 @@ def _frame_block(layout, sheet_spec, chart_spec):
     return row + 5 * index, col
 
 
+NO_CURVE = {"zh": "（无）", "en": " (none)"}      # short: a long entry squeezes the plot
+
+
+def _names_block(layout, sheet_spec, chart_spec):
+    """(row, col) of a live-names chart's first name cell: below the sheet's frames,
+    one block per such chart (a caption row and a cell per curve)."""
+    row, col = frame_anchor(layout, sheet_spec)
+    row += 5 * sum(1 for c in sheet_spec.charts if c.equal_axes)
+    for other in sheet_spec.charts:
+        if other is chart_spec:
+            return row + 1, col
+        if other.live_names:
+            row += 2 + sum(len(_ranges(layout, key, None, chart_spec=other)) for key in other.y)
+    raise ValueError(f"chart of {sheet_spec.key!r} is not on its sheet")
+
+
+def _live_name(ws, layout, sheet, cell, name, values, y, styles, first):
+    """A series name that is a formula: the curve's name, or with NO_CURVE when its
+    column holds no number; returns the series' name options (with the cached text)."""
+    cached = name if np.isfinite(y).any() else name + NO_CURVE[layout.lang]
+    if ws is not None:
+        if first:
+            ws.write(cell[0] - 1, cell[1], LEGEND_LABEL[layout.lang], styles.subtitle)
+        text = name.replace('"', '""')
+        none = (name + NO_CURVE[layout.lang]).replace('"', '""')
+        ws.write_formula(cell[0], cell[1], f'=IF(COUNT({values})=0,"{none}","{text}")', None,
+                         cached)
+    return {"name": f"={quote_sheet(sheet)}!{xl_rowcol_to_cell(*cell, True, True)}",
+            "name_data": [cached]}
+
+
+LEGEND_LABEL = {"zh": "图例名称（随数据变化）", "en": "legend names (follow the data)"}
+
+
 def write_frame(ws, layout, sheet_spec, chart_spec, x_ranges, y_ranges, xs, ys, styles):
     """The live frame of an equal-axis chart, beside it on its sheet: its corners are
     formulas on the plotted ranges (frame_values' arithmetic), so the axes
@@ -219,6 +253,10 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
             x = x if x_column is None else x[:, index]
             series = {"name": name, "categories": x_range, "values": values,
                       "values_data": _cache(y_source, y_column)}
+            if chart_spec.live_names:
+                row, col = _names_block(layout, sheet_spec, chart_spec)
+                series.update(_live_name(ws, layout, sheet, (row + curves, col), name, values,
+                                         y, styles, first=curves == 0))
             if x.size == y.size:
                 series["categories_data"] = _cache(x_source, x_column)
             colour = COLOURS[curves % len(COLOURS)]
