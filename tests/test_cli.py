@@ -94,6 +94,8 @@ def test_a_path_that_is_not_a_file_is_named_as_such(tmp_path, kind, args, named)
     assert "Traceback" not in done.stderr and "no such file" not in done.stderr
     said = {"fifo": "named pipe", "device": "a device", "folder": "a folder"}[kind]
     assert said in done.stderr and named in done.stderr and path.name in done.stderr
+    if args[0] == "check":                  # a student's command: said in Chinese too
+        assert "不是普通文件" in done.stderr, done.stderr
     assert not output.exists()
 
 

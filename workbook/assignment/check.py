@@ -19,7 +19,7 @@ from crankbook.assignment.student_book import TASK
 from crankbook.errors import CrankbookError
 from crankbook.reading.workbook_reader import parse_reference
 from crankbook.reading.xlsx_reader import Unreadable, XlsxBook
-from crankbook.support.paths import require_file
+from crankbook.support.paths import not_a_file
 
 LOST = ("not_a_number", "wrong_unit")          # cell reasons whose answer grading cannot use
 
@@ -89,7 +89,9 @@ def check(path):
     from crankbook.assignment.grade import answer_shapes, grade_submission
     from crankbook.assignment.submissions import Submission, read
     path = Path(path)
-    require_file(path, CrankbookError)
+    reason = not_a_file(path)
+    if reason:                          # a student's usage slip: said in both languages
+        raise CrankbookError(f"{path}: {reason_text(reason, 'zh')} / {reason}")
     try:
         key, lang, typed = _file_facts(path)
     except (Unreadable, CrankbookError) as reason:     # no language to speak yet: both
