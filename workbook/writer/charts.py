@@ -16,7 +16,7 @@ COLOURS = ["#1F77B4", "#D62728", "#2CA02C", "#FF7F0E", "#9467BD", "#8C564B", "#E
 GRIDLINES = {"visible": True, "line": {"color": "#D9D9D9"}}
 
 
-def _ranges(layout, key, results, short=False, chart_spec=None):
+def _ranges(layout, key, short=False, chart_spec=None):
     """(name, range) of each curve of a series: one, or one per item (named by the item
     alone when ``short``: the curves of a polar diagram; "<curve> n" where the chart
     names its curves, and only its first ``curves`` items)."""
@@ -101,37 +101,35 @@ def _frame_block(layout, sheet_spec, chart_spec):
 
 
 NO_CURVE = {"zh": "（无）", "en": " (none)"}      # short: a long entry squeezes the plot
+LEGEND_LABEL = {"zh": "图例名称（随数据变化）", "en": "legend names (follow the data)"}
 
 
 def _names_block(layout, sheet_spec, chart_spec):
-    """(row, col) of a live-names chart's first name cell: below the sheet's frames,
-    one block per such chart (a caption row and a cell per curve)."""
+    """(row, col) of a live-names chart's caption, its curves' name cells below it:
+    under the sheet's frames, one block per such chart (caption, a cell per curve, a
+    gap).  The Charts sheet's copy of the chart finds the same cells."""
     row, col = frame_anchor(layout, sheet_spec)
     row += 5 * sum(1 for c in sheet_spec.charts if c.equal_axes)
     for other in sheet_spec.charts:
         if other is chart_spec:
-            return row + 1, col
+            return row, col
         if other.live_names:
-            row += 2 + sum(len(_ranges(layout, key, None, chart_spec=other)) for key in other.y)
+            row += 2 + sum(len(_ranges(layout, key, chart_spec=other)) for key in other.y)
     raise ValueError(f"chart of {sheet_spec.key!r} is not on its sheet")
 
 
-def _live_name(ws, layout, sheet, cell, name, values, y, styles, first):
-    """A series name that is a formula: the curve's name, or with NO_CURVE when its
-    column holds no number; returns the series' name options (with the cached text)."""
-    cached = name if np.isfinite(y).any() else name + NO_CURVE[layout.lang]
+def _live_name(ws, layout, sheet, cell, name, values, y):
+    """A series name that is a formula in ``cell``: the curve's name, or with NO_CURVE
+    while its column holds no number; returns the series' name options (the cached
+    text is the formula's result for ``y``)."""
+    none = name + NO_CURVE[layout.lang]
+    cached = name if np.isfinite(y).any() else none
     if ws is not None:
-        if first:
-            ws.write(cell[0] - 1, cell[1], LEGEND_LABEL[layout.lang], styles.subtitle)
-        text = name.replace('"', '""')
-        none = (name + NO_CURVE[layout.lang]).replace('"', '""')
-        ws.write_formula(cell[0], cell[1], f'=IF(COUNT({values})=0,"{none}","{text}")', None,
+        quoted = lambda text: '"' + text.replace('"', '""') + '"'
+        ws.write_formula(*cell, f"=IF(COUNT({values})=0,{quoted(none)},{quoted(name)})", None,
                          cached)
     return {"name": f"={quote_sheet(sheet)}!{xl_rowcol_to_cell(*cell, True, True)}",
             "name_data": [cached]}
-
-
-LEGEND_LABEL = {"zh": "图例名称（随数据变化）", "en": "legend names (follow the data)"}
 
 
 def write_frame(ws, layout, sheet_spec, chart_spec, x_ranges, y_ranges, xs, ys, styles):
@@ -232,14 +230,18 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
     kind = "column" if chart_spec.type == "column" else "scatter"
     chart = book.add_chart({"type": kind} if kind == "column" else
                            {"type": "scatter", "subtype": "straight"})
-    x_ranges = _ranges(layout, x_key, results) if chart_spec.x else \
+    x_ranges = _ranges(layout, x_key) if chart_spec.x else \
         [(None, f"{quote_sheet(sheet)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}")]
     curves, xs, ys, used_x, used_y = 0, [], [], [], []
+    if chart_spec.live_names:
+        names_row, names_col = _names_block(layout, sheet_spec, chart_spec)
+        if ws is not None:
+            ws.write(names_row, names_col, LEGEND_LABEL[lang], styles.subtitle)
     for number, key in enumerate(chart_spec.y):
         if chart_spec.x_each:             # each curve its own x (a cam's two profiles)
             x_key = chart_spec.x_each[number]
-            x_ranges = _ranges(layout, x_key, results)
-        for index, (name, values) in enumerate(_ranges(layout, key, results,
+            x_ranges = _ranges(layout, x_key)
+        for index, (name, values) in enumerate(_ranges(layout, key,
                                                         short=bool(chart_spec.x),
                                                         chart_spec=chart_spec)):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
@@ -254,9 +256,8 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
             series = {"name": name, "categories": x_range, "values": values,
                       "values_data": _cache(y_source, y_column)}
             if chart_spec.live_names:
-                row, col = _names_block(layout, sheet_spec, chart_spec)
-                series.update(_live_name(ws, layout, sheet, (row + curves, col), name, values,
-                                         y, styles, first=curves == 0))
+                series.update(_live_name(ws, layout, sheet, (names_row + 1 + curves, names_col),
+                                         name, values, y))
             if x.size == y.size:
                 series["categories_data"] = _cache(x_source, x_column)
             colour = COLOURS[curves % len(COLOURS)]
