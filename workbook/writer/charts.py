@@ -65,25 +65,52 @@ def nice_step(span):
 
 
 def frame_values(xs, ys, unit=None):
-    """(x0, y0, length, span, step): a square frame with corners on multiples of one
-    round step, holding every point and the origin, never with a corner at 0 (so
-    every engine's automatic axes treat x and y alike and keep one scale); the
-    narrower axis is padded by whole steps on both sides.  The step is a whole
+    """(x0, y0, length, span, step): the square frame of an equal-axis chart, its
+    lower-left corner and side (see ``Frame``)."""
+    frame = Frame(xs, ys, unit)
+    return frame.start[0], frame.start[1], frame.end[0] - frame.start[0], frame.span, frame.step
+
+
+class Frame:
+    """The square frame of an equal-axis chart, the arithmetic of its live formulas
+    operation for operation (so the cached values are the ones engines compute).
+
+    Its ticks (``low``, ``high`` per axis, ``tick`` the common side) are multiples of
+    one round ``step`` holding every point and the origin with a ``margin`` of an
+    eighth of the data's ``span``; the narrower axis is padded by whole steps on both
+    sides; the corners (``start``, ``end``) sit the margin inside the ticks.  Excel
+    and LibreOffice widen an automatic axis by a step when the data comes within 5 %
+    of its span of a tick; inset so, the frame makes both choose exactly its ticks,
+    the same on x and y: one scale and no step of empty border.  The step is a whole
     multiple of the axes' major ``unit`` (fixed when the chart was built; by default
     the step itself)."""
-    x = np.concatenate([np.ravel(v) for v in xs] + [np.zeros(1)])
-    y = np.concatenate([np.ravel(v) for v in ys] + [np.zeros(1)])
-    x, y = x[np.isfinite(x)], y[np.isfinite(y)]
-    span = max(x.max() - x.min(), y.max() - y.min())
-    step = nice_step(span)
-    if unit is not None:
-        step = unit * max(1, -math.floor(-step / unit))
-    low = [min(math.floor(v.min() / step) * step, -step) for v in (x, y)]
-    high = [max(-math.floor(-v.max() / step) * step, step) for v in (x, y)]
-    length = max(high[0] - low[0], high[1] - low[1])
-    x0, y0 = (lo - math.floor((length - (hi - lo)) / step / 2) * step
-              for lo, hi in zip(low, high))
-    return x0, y0, length, span, step
+
+    def __init__(self, xs, ys, unit=None):
+        x = np.concatenate([np.ravel(v) for v in xs] + [np.zeros(1)])
+        y = np.concatenate([np.ravel(v) for v in ys] + [np.zeros(1)])
+        self.values = x[np.isfinite(x)], y[np.isfinite(y)]
+        self.span = max(v.max() - v.min() for v in self.values)
+        step = nice_step(self.span)
+        if unit is not None:
+            step = unit * max(1, -math.floor(-step / unit))
+        self.step = step
+        self.margin = frame_margin(self.span, step)
+        self.low = [min(math.floor((v.min() - self.margin) / step) * step, -step)
+                    for v in self.values]
+        self.high = [max(-math.floor(-(v.max() + self.margin) / step) * step, step)
+                     for v in self.values]
+        self.tick = max(hi - lo for lo, hi in zip(self.low, self.high))
+        self.start = [lo - math.floor((self.tick - (hi - lo)) / step / 2) * step + self.margin
+                      for lo, hi in zip(self.low, self.high)]
+        self.end = [s + self.tick - 2 * self.margin for s in self.start]
+
+
+def frame_margin(span, step):
+    """The frame's inset from its ticks: an eighth of the data's span (of the step
+    while the span is 0).  Its ticks then span at most about twice the data (the
+    rounding to steps), so the inset stays above the 5 % (of the corners' span) at
+    which Excel and LibreOffice add a step of border."""
+    return max(span, step) / 8
 
 
 def frame_anchor(layout, sheet_spec):
@@ -134,59 +161,58 @@ def _live_name(ws, layout, sheet, cell, name, values, y):
 
 def write_frame(ws, layout, sheet_spec, chart_spec, x_ranges, y_ranges, xs, ys, styles):
     """The live frame of an equal-axis chart, beside it on its sheet: its corners are
-    formulas on the plotted ranges (frame_values' arithmetic), so the axes
-    (automatic) follow every edit."""
+    formulas on the plotted ranges (``Frame``'s arithmetic), so the axes (automatic)
+    follow every edit."""
     row, col = _frame_block(layout, sheet_spec, chart_spec)
-    x0, y0, length, span, step = frame_values(xs, ys)
-    x = np.concatenate([np.ravel(v) for v in xs] + [np.zeros(1)])
-    y = np.concatenate([np.ravel(v) for v in ys] + [np.zeros(1)])
+    frame = Frame(xs, ys)
     cell = lambda r, c: xl_rowcol_to_cell(r, c, True, True)
-    span_cell, step_cell, length_cell = (cell(row + 1, col + k) for k in (1, 2, 3))
+    span_cell, step_cell, tick_cell, margin_cell = (cell(row + 1, col + k) for k in (1, 2, 3, 4))
     lo = lambda ranges: f"MIN(0,{','.join(ranges)})"
     hi = lambda ranges: f"MAX(0,{','.join(ranges)})"
     ws.write(row, col, FRAME_LABEL[layout.lang], styles.subtitle)
-    ws.write(row + 1, col, "D, s, L")
+    ws.write(row + 1, col, "D, s, T, m")
     ws.write_formula(row + 1, col + 1, f"=MAX({hi(x_ranges)}-{lo(x_ranges)},"
-                                       f"{hi(y_ranges)}-{lo(y_ranges)})", None, span)
+                                       f"{hi(y_ranges)}-{lo(y_ranges)})", None, frame.span)
     quarter = f"{span_cell}/{FRAME_INTERVALS}"
     power = f"10^INT(LOG10({quarter}))"
     nice = (f"IF({span_cell}<=0,1,{power}*IF({quarter}/{power}<=1,1,"
             f"IF({quarter}/{power}<=2,2,IF({quarter}/{power}<=5,5,10))))")
     # a whole multiple of the axes' major unit (fixed at the build's step): every
     # engine then rounds both axes to the same ticks and keeps them equal
+    step = frame.step
     ws.write_formula(row + 1, col + 2, f"={step!r}*MAX(1,-INT(-{nice}/{step!r}))", None, step)
+    ws.write_formula(row + 1, col + 4, f"=MAX({span_cell},{step_cell})/8", None, frame.margin)
     rows = []
-    for offset, (axis, ranges, values, start) in enumerate(
-            (("x", x_ranges, x, x0), ("y", y_ranges, y, y0))):
-        r = row + 2 + offset
-        values = values[np.isfinite(values)]
-        low = min(math.floor(values.min() / step) * step, -step)
-        high = max(-math.floor(-values.max() / step) * step, step)
-        ws.write(r, col, axis)
-        ws.write_formula(r, col + 3, f"=MIN(INT({lo(ranges)}/{step_cell})*{step_cell},"
-                                     f"-{step_cell})", None, low)
-        ws.write_formula(r, col + 4, f"=MAX(-INT(-{hi(ranges)}/{step_cell})*{step_cell},"
-                                     f"{step_cell})", None, high)
-        # the frame's corners: padded by whole steps on both sides to the common length
-        ws.write_formula(r, col + 1, f"={cell(r, col + 3)}-INT(({length_cell}-"
+    for axis, (name, ranges) in enumerate((("x", x_ranges), ("y", y_ranges))):
+        r = row + 2 + axis
+        ws.write(r, col, name)
+        ws.write_formula(r, col + 3, f"=MIN(INT(({lo(ranges)}-{margin_cell})/{step_cell})"
+                                     f"*{step_cell},-{step_cell})", None, frame.low[axis])
+        ws.write_formula(r, col + 4, f"=MAX(-INT(-({hi(ranges)}+{margin_cell})/{step_cell})"
+                                     f"*{step_cell},{step_cell})", None, frame.high[axis])
+        # the frame's corners: its ticks padded by whole steps on both sides to the
+        # common side, then the margin inside them
+        ws.write_formula(r, col + 1, f"={cell(r, col + 3)}-INT(({tick_cell}-"
                                      f"({cell(r, col + 4)}-{cell(r, col + 3)}))/{step_cell}/2)"
-                                     f"*{step_cell}", None, start)
-        ws.write_formula(r, col + 2, f"={cell(r, col + 1)}+{length_cell}", None, start + length)
+                                     f"*{step_cell}+{margin_cell}", None, frame.start[axis])
+        ws.write_formula(r, col + 2, f"={cell(r, col + 1)}+{tick_cell}-2*{margin_cell}", None,
+                         frame.end[axis])
         rows.append(r)
     ws.write_formula(row + 1, col + 3,
                      "=MAX(" + ",".join(f"{cell(r, col + 4)}-{cell(r, col + 3)}" for r in rows)
-                     + ")", None, length)
+                     + ")", None, frame.tick)
 
 
 def _frame_series(layout, sheet_spec, chart_spec, xs, ys):
     """The invisible two-point series of the frame's corners (with their cache)."""
     row, col = _frame_block(layout, sheet_spec, chart_spec)
     sheet = quote_sheet(layout.sheet_name[sheet_spec.key])
-    x0, y0, length, _, _ = frame_values(xs, ys)
+    frame = Frame(xs, ys)
     return {"name": FRAME_LABEL[layout.lang],
             "categories": f"{sheet}!{xl_range_abs(row + 2, col + 1, row + 2, col + 2)}",
             "values": f"{sheet}!{xl_range_abs(row + 3, col + 1, row + 3, col + 2)}",
-            "categories_data": [x0, x0 + length], "values_data": [y0, y0 + length],
+            "categories_data": [frame.start[0], frame.end[0]],
+            "values_data": [frame.start[1], frame.end[1]],
             "line": {"none": True}, "marker": {"type": "none"}}
 
 
@@ -296,7 +322,7 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
         chart.add_series(_frame_series(layout, sheet_spec, chart_spec, xs, ys))
         # automatic bounds over the frame, one major unit on both (the build's frame
         # step); the axes cross at the origin, their labels at the edge
-        step = frame_values(xs, ys)[4]
+        step = Frame(xs, ys).step
         # thousands as "k": labels stay short enough to stand upright
         numbers = {"num_font": {"size": 8}, "major_unit": step, "crossing": 0}
         if step >= 1000:
