@@ -55,6 +55,21 @@ def test_no_hashes_on_any_page(rendered):
         assert not any("###" in page for page in _pages(pdf)), key
 
 
+KEY_WORD = re.compile(r"^[a-z][a-z0-9]*(?:_[a-z0-9]+)+$")
+
+
+def test_every_key_prints_whole(rendered):
+    """A key wider than its column is stopped by the value beside it: LibreOffice
+    prints the part that fits ("stroke_study_swept_volume_alt"), a name no workbook
+    defines."""
+    for key, (path, pdf) in rendered.items():
+        names = openpyxl.load_workbook(path, read_only=True).defined_names
+        keys = {n[2:] for n in names if n[:2] in ("p_", "q_")}
+        printed = {w for page in _pages(pdf) for w in page.split() if KEY_WORD.match(w)}
+        cut = {w for w in printed - keys if any(k.startswith(w) for k in keys)}
+        assert not cut, (key, sorted(cut)[:6])
+
+
 def _placed_words(pdf):
     """{page: [(x0, y0, x1, y1, word)]} of a PDF, as pdftotext places them."""
     text = subprocess.run(["pdftotext", "-bbox", str(pdf), "-"], capture_output=True,
@@ -263,7 +278,8 @@ def _words(pdf, page):
 def _scales_below(words, title_y):
     """(x scale, y scale) in points per unit of the chart titled at ``title_y``: its x
     labels are the first row of three or more numbers below the title, its y labels
-    the column of numbers sharing a right edge between the title and that row."""
+    the longest column of numbers sharing a right edge between the title and that
+    row, left of the first x label (a legend's numbered curves stand right)."""
     numbers = [w for w in words if NUMBER.match(w[4]) and w[1] > title_y]
     rows = {}
     for w in numbers:
@@ -272,15 +288,32 @@ def _scales_below(words, title_y):
     x_row.sort(key=lambda w: w[0])
     columns = {}
     for w in numbers:
-        if w[3] < x_row[0][1] + 2 and w not in x_row:
+        if w[3] < x_row[0][1] + 2 and w not in x_row and w[2] < x_row[0][2]:
             columns.setdefault(round(w[2]), []).append(w)
     y_column = max((c for c in columns.values() if len(c) >= 3), key=len)
     y_column.sort(key=lambda w: w[1])
 
     def scale(first, last, centre):
         return abs(centre(last) - centre(first)) / abs(_value(last[4]) - _value(first[4]))
+    labels = [sorted(_value(w[4]) for w in axis) for axis in (x_row, y_column)]
     return (scale(x_row[0], x_row[-1], lambda w: (w[0] + w[2]) / 2),
-            scale(y_column[0], y_column[-1], lambda w: (w[1] + w[3]) / 2))
+            scale(y_column[0], y_column[-1], lambda w: (w[1] + w[3]) / 2), labels)
+
+
+def _frames_by_title(path):
+    """{chart title: ((x0, x1), (y0, y1))}: the cached corners of each equal-axis
+    chart's frame series."""
+    from xml.etree import ElementTree
+    frames = {}
+    for _, xml in _charts(path):
+        root = ElementTree.fromstring(xml)
+        title = root.find(".//c:title", NS)
+        for series in root.iterfind(".//c:ser", NS):
+            if "".join(series.find("c:tx", NS).itertext()) in FRAME_LABEL.values():
+                corners = [sorted(_cache(series.find(k, NS))[0].values())
+                           for k in ("c:xVal", "c:yVal")]
+                frames["".join(title.itertext())] = corners
+    return frames
 
 
 def test_equal_axis_charts_print_at_one_scale(rendered):
@@ -298,15 +331,21 @@ def test_equal_axis_charts_print_at_one_scale(rendered):
                         not any(t[:12] in page for t in titles):
                     continue
                 words = _words(pdf, number)
+                frames = _frames_by_title(rendered[(preset, lang)][0])
                 for title in titles:
-                    tokens = title.split()[:3]
+                    tokens = title.split()[:6]     # enough to tell the polars apart
                     found = [words[i] for i in range(len(words) - len(tokens) + 1)
                              if [w[4] for w in words[i:i + len(tokens)]] == tokens]
                     if not found:
                         continue
-                    x_scale, y_scale = _scales_below(words, found[0][1])
+                    x_scale, y_scale, labels = _scales_below(words, found[0][1])
                     assert x_scale == pytest.approx(y_scale, rel=EQUAL_SCALE), \
                         (preset, lang, title, x_scale, y_scale)
+                    # the axes end at the ticks next to the frame: no step of border
+                    for ticks, (low, high) in zip(labels, frames[title]):
+                        step = ticks[1] - ticks[0]
+                        assert ticks[0] < low < ticks[0] + step and \
+                            ticks[-1] - step < high < ticks[-1], (preset, lang, title, ticks)
                     checked += 1
     assert checked >= 8
 
