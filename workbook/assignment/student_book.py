@@ -10,7 +10,7 @@ from crankbook.support.atomic import atomic_path
 from crankbook.spec.formulas import quote_sheet
 from crankbook.writer.build import FIXED_TIME, PROPERTY_ASSIGNMENT, PROPERTY_ROLE, PROPERTY_TEMPLATE
 from crankbook.writer.layout import unit_text
-from crankbook.writer.print_setup import landscape_page, line_height, row_points
+from crankbook.writer.print_setup import key_width, landscape_page, line_height, row_points
 from crankbook.writer.styles import Styles
 
 TASK = {"zh": "任务", "en": "Task"}
@@ -80,8 +80,7 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
     task = book.add_worksheet(name)
     shown = [p for p in spec.scalar_parameters() if p.group != "pressure" and
              (assignment.task_groups is None or p.group in assignment.task_groups)]
-    # the keys in full (Consolas: one character of column each)
-    widths = [max(TASK_WIDTHS[0], *(len(p.key) + 2 for p in shown)), *TASK_WIDTHS[1:]]
+    widths = [key_width((p.key for p in shown), TASK_WIDTHS[0]), *TASK_WIDTHS[1:]]
     for col, width in enumerate(widths):
         task.set_column(col, col, width)
     task.write(0, 0, assignment.name(lang), styles.title)
@@ -204,7 +203,7 @@ def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, an
              styles.subtitle)
     items = [assignment.item[key] for key in answer_sheet.items]
     if answer_sheet.rows == "scalar":
-        widths = [40, 18, 10, max(26, *(len(item.key) + 4 for item in items))]
+        widths = [40, 18, 10, key_width((f"a_{item.key}" for item in items), 26)]
         for col, width in enumerate(widths):
             ws.set_column(col, col, width)
         headers = [both("量", "Quantity", lang), both("答案", "Answer", lang),

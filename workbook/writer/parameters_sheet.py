@@ -4,7 +4,7 @@ from xlsxwriter.utility import xl_rowcol_to_cell
 
 from crankbook.spec.formulas import number
 from crankbook.writer.layout import PARAMETER_TABLE_ROW, label, unit_text
-from crankbook.writer.print_setup import landscape_page, wrapped_texts
+from crankbook.writer.print_setup import key_width, landscape_page, wrapped_texts
 from crankbook.writer.scalar_sheet import write_formula_cell
 
 HEADERS = {
@@ -95,7 +95,10 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
     spec, lang = layout.spec, layout.lang
     name = layout.sheet_name["parameters"]
     ws = book.add_worksheet(name)
-    for col, width in enumerate(WIDTHS):
+    keys = ["inputs_valid"] + [e.item.key for e in layout.parameter_rows
+                               if e.kind in ("parameter", "scalar", "bound", "rule")]
+    widths = [key_width(keys, WIDTHS[0]), *WIDTHS[1:]]
+    for col, width in enumerate(widths):
         ws.set_column(col, col, width)
     ws.write(0, 0, f"{label(spec, lang)} — {both(('参数', 'Parameters'), lang)}", styles.title)
     ws.write(1, 0, f"{both(('预设', 'Preset'), lang)}: {preset['name']} — {preset[lang]}",
@@ -196,7 +199,7 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
     # which rule the inputs break
     printed = next(e.row for e in layout.parameter_rows
                    if e.kind == "heading" and e.item == "checks") - 2
-    ws.print_area(0, 0, printed, len(WIDTHS) - 1)
-    landscape_page(ws, WIDTHS, printed)
+    ws.print_area(0, 0, printed, len(widths) - 1)
+    landscape_page(ws, widths, printed)
     ws.activate()
     return ws

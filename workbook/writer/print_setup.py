@@ -1,5 +1,6 @@
 """Page setup shared by the sheet writers: A4 landscape, one page wide, headers
 repeated on every page."""
+import math
 import re
 from functools import lru_cache
 
@@ -8,8 +9,19 @@ from crankbook.writer.layout import FIRST_ROW
 A4 = 9
 PRINTABLE_POINTS = (842 - 2 * 0.7 * 72, 595 - 2 * 0.75 * 72)   # A4 landscape less the
                                                                 # default margins
+# a key (Consolas 10 pt, or LibreOffice's fallback DejaVu Sans Mono where Consolas is
+# missing: 8 px a glyph) in a column whose unit is the default font's digit (7 px)
+KEY_COLUMNS_PER_CHARACTER = 1.15
 NO_PRINT = (0, 16383, 0, 16383)   # a print area on an always-empty cell: the sheet is
                                   # skipped when the whole workbook prints
+
+
+def key_width(keys, minimum):
+    """Width (characters) of a column of keys in the key style that shows the longest
+    whole: a key cannot wrap, and its neighbour (the value) stops it at the column's
+    edge on the screen and on paper."""
+    longest = max((len(k) for k in keys), default=0)
+    return max(minimum, math.ceil(longest * KEY_COLUMNS_PER_CHARACTER + 1))
 
 
 @lru_cache(maxsize=8192)       # the same labels come back on every sheet and every student

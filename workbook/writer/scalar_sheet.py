@@ -1,6 +1,6 @@
 """Rows of named scalar results (key, value, unit, labels), and sheets made of them."""
 from crankbook.writer.layout import SCALAR_FIRST_ROW, label, unit_text
-from crankbook.writer.print_setup import landscape_page, wrapped_texts
+from crankbook.writer.print_setup import key_width, landscape_page, wrapped_texts
 from crankbook.writer.series_sheet import cached
 
 
@@ -57,7 +57,8 @@ def write_scalar_rows(ws, row, quantities, layout, results, styles, sheet_name):
 def write_scalar_sheet(book, sheet_spec, layout, results, styles):
     name = layout.sheet_name[sheet_spec.key]
     ws = book.add_worksheet(name)
-    for col, width in enumerate(WIDTHS):
+    widths = [key_width((q.key for q in sheet_spec.columns), WIDTHS[0]), *WIDTHS[1:]]
+    for col, width in enumerate(widths):
         ws.set_column(col, col, width)
     ws.write(0, 0, label(sheet_spec, layout.lang, "title_"), styles.title)
     ws.write(1, 0, label(sheet_spec, layout.other, "title_"), styles.subtitle)
