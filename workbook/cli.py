@@ -87,7 +87,8 @@ def _build_parser():
                     "(live formulas), a Markdown report beside it and, with --json, the "
                     "findings as JSON. FILE.xlsx: recompute a workbook crankbook wrote from "
                     "its p_ cells and report every q_ cell that no longer agrees.")
-    audit.add_argument("target", metavar="DOCUMENT|FILE.xlsx")
+    audit.add_argument("target", metavar="DOCUMENT|FILE.xlsx",
+                       help="a document's short name (or all), or a workbook to re-audit")
     audit.add_argument("-o", "--output", metavar="PATH.xlsx",
                        help="audit workbook (default: output/audit-<document>.xlsx)")
     audit.add_argument("--json", metavar="PATH.json", help="also write the findings as JSON")
@@ -102,7 +103,9 @@ def _build_parser():
         description="Draw each student's parameters from the preset's assignment template "
                     "(reproducible for the same roster and --seed), and write "
                     "DIR/students/<id>.xlsx, DIR/keys/<id>.xlsx and DIR/manifest.csv.")
-    assign.add_argument("--preset", default="course-design")
+    assign.add_argument("--preset", default="course-design",
+                        help="preset whose assignment template draws the variants "
+                             "(default: course-design)")
     assign.add_argument("--roster", required=True, metavar="ROSTER",
                         help="the class list: .csv (UTF-8, GBK or UTF-16, as Excel saves it) or "
                              ".xlsx, with an id column (student_id, id or 学号) and a name "
@@ -112,8 +115,11 @@ def _build_parser():
                              "crankbook draws that student's key, so keep it secret (default: "
                              "a random 18-digit seed, kept in DIR/assignment.json; give it "
                              "again to draw the same tasks, e.g. for a late student)")
-    assign.add_argument("--lang", choices=LANGS, default="zh")
-    assign.add_argument("-o", "--output", required=True, metavar="DIR")
+    assign.add_argument("--lang", choices=LANGS, default="zh",
+                        help="language of the students' workbooks, feedback and reports "
+                             "(default: zh)")
+    assign.add_argument("-o", "--output", required=True, metavar="DIR",
+                        help="a new folder for the class (refused if it exists and is not empty)")
     assign.add_argument("--assignment", metavar="FILE",
                         help="a teacher's own assignment template (a copy of "
                              "templates/assignments/course-design.toml with other ranges, "
@@ -132,9 +138,10 @@ def _build_parser():
         description="export torsion WORKBOOK -o DIR: the torsional system (station, J, k to "
                     "the next) and each cylinder's torque harmonics a_k, b_k in the common "
                     "crank angle, read from an engine workbook's names as stored.")
-    export.add_argument("what", choices=("torsion",))
-    export.add_argument("workbook", metavar="WORKBOOK")
-    export.add_argument("-o", "--output", required=True, metavar="DIR")
+    export.add_argument("what", choices=("torsion",), help="what to export: torsion")
+    export.add_argument("workbook", metavar="WORKBOOK", help="an engine workbook crankbook wrote")
+    export.add_argument("-o", "--output", required=True, metavar="DIR",
+                        help="folder for stations.csv and harmonics.csv")
 
     check = commands.add_parser(
         "check", help="for students: would the grader read this workbook in full?",
@@ -143,15 +150,18 @@ def _build_parser():
                     "in a number cell, rows whose crank angle names no position, blank "
                     "answers. Never a score or an expected value. Exit 0: everything would "
                     "be read; 1: something would be lost.")
-    check.add_argument("file", metavar="FILE")
+    check.add_argument("file", metavar="FILE", help="your filled-in workbook (.xlsx)")
 
     grade = commands.add_parser(
         "grade", help="grade returned workbooks against the assignment in DIR",
         description="Grade every .xlsx under SUBMISSIONS (any names, nested folders) against "
-                    "the parameters assigned in DIR; write gradebook.csv, an LMS import CSV, "
-                    "feedback/<id>.md and class-report.xlsx to RESULTS.")
-    grade.add_argument("directory", metavar="DIR")
-    grade.add_argument("submissions", metavar="SUBMISSIONS")
+                    "the parameters assigned in DIR; write gradebook.csv and .xlsx, an LMS import "
+                    "CSV, feedback/<id>.md, class-report.xlsx and the teacher-only "
+                    "integrity.xlsx to RESULTS.")
+    grade.add_argument("directory", metavar="DIR", help="the class folder `assign` wrote")
+    grade.add_argument("submissions", metavar="SUBMISSIONS",
+                       help="the folder of returned workbooks (as the LMS or a mailbox "
+                            "saves them)")
     grade.add_argument("-o", "--output", metavar="RESULTS",
                        help="results directory (default: DIR/results); replaced whole when "
                             "the new results are complete")
@@ -191,8 +201,9 @@ def _build_parser():
 
     commands.add_parser("presets", help="list the presets")
     params_cmd = commands.add_parser("parameters", help="list the parameters of a preset")
-    params_cmd.add_argument("--preset", default="thesis")
-    params_cmd.add_argument("--group", type=int, metavar="N")
+    params_cmd.add_argument("--preset", default="thesis", help="preset (default: thesis)")
+    params_cmd.add_argument("--group", type=int, metavar="N",
+                            help="class group N of the preset's group table (course-design)")
     return parser
 
 
