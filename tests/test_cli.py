@@ -15,7 +15,7 @@ BAD_SETS = [
     (["--set", "piston_mass=0"], "piston_mass"),
     (["--set", "speed=fast"], "parameter speed: 'fast' is not a number"),
     (["--set", "speed=nan"], "parameter speed: 'nan' is not a number"),
-    (["--set", "sped=3000"], "unknown parameter 'sped'"),
+    (["--set", "sped=3000"], "unknown parameter 'sped' (did you mean speed?)"),
     (["--set", "speed"], "expected KEY=VALUE"),
     (["--set", "exact_kinematics=0", "--set", "offset=5"], "centric mechanism only"),
     (["--set", "exact_kinematics=2"], "must be 0 or 1"),

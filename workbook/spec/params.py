@@ -4,6 +4,7 @@ The same bounds and rules are the workbook's data validation and input checks, s
 the command line, the API and the spreadsheet refuse the same inputs.  A rule is
 a quantity (formula and calc function); here its calc function decides.
 """
+import difflib
 import math
 import re
 
@@ -125,16 +126,25 @@ def coerce(parameter, value, where=""):
     return parse_number(parameter.key, value)
 
 
+def _did_you_mean(key, known):
+    """' (did you mean a, b?)' for the keys a slip of ``key`` could be: a close spelling
+    ('sped'), or a key that contains it or that it contains ('rod' → rod_length, …)."""
+    key = str(key)
+    close = difflib.get_close_matches(key, known, n=3, cutoff=0.75)
+    if len(key) >= 3:
+        close += [k for k in known if (key in k or k in key) and k not in close][:5 - len(close)]
+    return f" (did you mean {', '.join(close)}?)" if close else ""
+
+
 def apply_overrides(spec, values, overrides):
     """Values with each key → value of ``overrides`` applied (values as typed: text
     from the command line, or Python numbers, lists and words from the API)."""
     values = dict(values)
     for key, value in overrides.items():
         if key not in spec.parameter:
-            close = [k for k in spec.parameter if key in k or k in key]
-            hint = f" (did you mean {', '.join(close)}?)" if close else ""
-            raise UnknownParameterError(f"unknown parameter {key!r}{hint}; parameters are: "
-                                        f"{', '.join(spec.parameter)}")
+            raise UnknownParameterError(f"unknown parameter {str(key)[:80]!r}"
+                                        f"{_did_you_mean(key, spec.parameter)}; "
+                                        f"'crankbook parameters --preset PRESET' lists them")
         values[key] = coerce(spec.parameter[key], value, "--set")
     return values
 
