@@ -162,6 +162,35 @@ def _sheet_files(path):
             for name, rid in sheets}
 
 
+def cells_under_charts(path):
+    """(sheet, cell, value) of every written cell that a chart covers: a chart
+    anchored over a table hides it on the screen and on paper.  The anchors are the
+    file's own (xl/drawings), which the writer computed from the rows' heights."""
+    book = openpyxl.load_workbook(path)
+    hidden = []
+    with zipfile.ZipFile(path) as z:
+        for sheet, part in _sheet_files(path).items():
+            folder, name = part.rsplit("/", 1)
+            rels = f"{folder}/_rels/{name}.rels"
+            if rels not in z.namelist():
+                continue
+            drawings = re.findall(r'Target="\.\./drawings/(drawing\d+\.xml)"',
+                                  z.read(rels).decode())
+            for drawing in drawings:
+                xml = z.read(f"xl/drawings/{drawing}").decode()
+                for anchor in re.findall(r"<xdr:twoCellAnchor.*?</xdr:twoCellAnchor>", xml,
+                                         flags=re.S):
+                    (c0, r0), (c1, r1) = [tuple(int(v) for v in re.search(
+                        rf"<xdr:{end}><xdr:col>(\d+)</xdr:col>.*?<xdr:row>(\d+)</xdr:row>",
+                        anchor, flags=re.S).groups()) for end in ("from", "to")]
+                    ws = book[sheet]
+                    for row in ws.iter_rows(min_row=r0 + 1, max_row=r1 + 1, min_col=c0 + 1,
+                                            max_col=c1 + 1):
+                        hidden += [(sheet, c.coordinate, c.value) for c in row
+                                   if c.value not in (None, "")]
+    return hidden
+
+
 def _cells_of(ref):
     """(row, column) of every cell of an A1 reference such as $B$5 or $B$5:$B$9."""
     first, _, last = ref.replace("$", "").partition(":")

@@ -69,6 +69,17 @@ def test_defined_names_are_valid_and_complete(tmp_path):
     assert len(names["q_torque"]) == 73
 
 
+@pytest.mark.parametrize("preset", ["thesis", "v8-crossplane", "course-design", "compressor",
+                                    "offset-optimization"])
+def test_no_chart_hides_a_cell(tmp_path, preset):
+    """A chart anchored over a table or a chart frame's cells hides them."""
+    from crankbook import compute
+    from tests.conftest import cells_under_charts
+    step = None if preset == "offset-optimization" else 10
+    path = compute(preset, step=step).to_excel(tmp_path / "t.xlsx")
+    assert not cells_under_charts(path)
+
+
 def test_each_formula_is_written_once():
     """No formula text of a workbook template or library appears twice (they are
     placed from templates/common instead)."""

@@ -501,8 +501,15 @@ def _slips_chart(book, ws, w, last, col):
                       "major_gridlines": {"visible": True}})
     chart.set_y_axis({"reverse": True, "crossing": "max"})   # the table's order, top down
     chart.set_legend({"position": "bottom"})
-    chart.set_size({"width": 620, "height": max(340, 22 * (last - 2) + 160)})
+    height = max(340, 22 * (last - 2) + 160)
+    chart.set_size({"width": 620, "height": height})
     ws.insert_chart(2, col, chart)
+    # the row below the chart: its header row (HEADER_POINTS) and then default rows
+    return 3 + math.ceil((height - HEADER_POINTS * 4 / 3) / DEFAULT_ROW_PX)
+
+
+HEADER_POINTS = 32           # the analysis table's header row: its words wrap
+DEFAULT_ROW_PX = 20          # a default row (15 pt)
 
 
 SLIP_KINDS = ("unit_slip", "sign_slip", "consequential", "not_a_number", "no_answer")
@@ -542,7 +549,7 @@ def _item_analysis(book, w, assignment, lang, graded, styles):
                                "border": 1, "bg_color": "#DDEBF7"})
     for col, word in enumerate(header):
         ws.write(2, col, w[word], wrapped)
-    ws.set_row(2, 32)                  # headers wrap in their column, never cut
+    ws.set_row(2, HEADER_POINTS)       # headers wrap in their column, never cut
     stats = item_statistics(assignment, graded)
     percent = styles.number("-", "0%")
     for row, entry in enumerate(stats, start=3):
@@ -557,20 +564,20 @@ def _item_analysis(book, w, assignment, lang, graded, styles):
     ws.set_column(0, 0, _width([e["item"].label(lang) for e in stats], 20))
     ws.set_column(1, len(header) - 1, 12)
     ws.write(last + 2, 0, w["analysis_note"], styles.text)
-    if stats:
-        _slips_chart(book, ws, w, last, len(header) + 1)
+    below_chart = _slips_chart(book, ws, w, last, len(header) + 1) if stats else 0
     # positions × quantities: the share of students right at each position
     position_items = [s for s in assignment.sheets if s.rows == "positions"]
     if assignment.positions is None or not position_items or not graded:
         return
     keys = [k for s in position_items for k in s.items]
     labels = assignment.positions.labels(lang)
-    top = last + 4
+    top = max(last + 4, below_chart + 1)     # below the chart: the heat map is wider than the table
     ws.write(top, 0, w["heat_title"], styles.group)
     ws.write(top + 1, 0, w["col_position"], wrapped)
     for col, key in enumerate(keys, start=1):
         ws.write(top + 1, col, assignment.item[key].label(lang), wrapped)
     ws.set_row(top + 1, 46)
+    ws.repeat_rows(top + 1)                  # a second page of positions keeps its quantities
     for row, label in enumerate(labels):
         ws.write(top + 2 + row, 0, label)
         for col, key in enumerate(keys, start=1):
