@@ -80,6 +80,24 @@ def test_no_chart_hides_a_cell(tmp_path, preset):
     assert not cells_under_charts(path)
 
 
+def test_cells_beside_wrapped_text_stand_on_its_first_line(tmp_path):
+    """In a row made tall by a wrapped description every cell is top-aligned: a value
+    at the bottom reads as the next row's (the Summary's 'Mean torque per cylinder')."""
+    import openpyxl
+    from crankbook import compute
+    path = compute("v8-crossplane", step=10).to_excel(tmp_path / "t.xlsx", lang="en")
+    book, low = openpyxl.load_workbook(path), []
+    for ws in book.worksheets:
+        for row, dimension in ws.row_dimensions.items():
+            if dimension.height is None or dimension.height <= 16 or \
+                    not any(ws.cell(row, c).alignment.wrap_text for c in range(1, 8)):
+                continue
+            low += [(ws.title, cell.coordinate) for cell in ws[row]
+                    if cell.value not in (None, "") and cell.alignment.vertical not in ("top", "center")
+                    and not ws.cell(row, 1).font.sz == 14]          # a title row
+    assert not low, low[:8]
+
+
 def test_each_formula_is_written_once():
     """No formula text of a workbook template or library appears twice (they are
     placed from templates/common instead)."""

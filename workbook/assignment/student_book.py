@@ -214,7 +214,7 @@ def _answer_sheet(book, answer_sheet, assignment, spec, lang, styles, define, an
         for i, item in enumerate(items):
             ws.write(4 + i, 0, item.label(lang), styles.text)
             ws.write_blank(4 + i, 1, None, answer)
-            ws.write(4 + i, 2, unit_text(item.unit))
+            ws.write(4 + i, 2, unit_text(item.unit), styles.top)
             ws.write(4 + i, 3, f"a_{item.key}", styles.key)
             ws.set_row(4 + i, row_points([(item.label(lang), widths[0])]))
             define(f"a_{item.key}", name, 4 + i, 1)

@@ -122,12 +122,12 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
             ws.write(row, 0, item.key, styles.key)
             input_cell(ws, row, 1, item, values[item.key], styles)
             validation(ws, row, 1, item, lang)
-            ws.write(row, 2, unit_text(item.unit))
+            ws.write(row, 2, unit_text(item.unit), styles.top)
             _describe(ws, row, item.zh, item.en, styles, allowed=item.bounds_text())
         elif entry.kind == "scalar":
             ws.write(row, 0, item.key, styles.key)
             write_formula_cell(ws, row, 1, item, layout, results, styles, name)
-            ws.write(row, 2, unit_text(item.unit))
+            ws.write(row, 2, unit_text(item.unit), styles.top)
             _describe(ws, row, item.zh, item.en, styles)
         elif entry.kind == "bound":
             ref = f"p_{item.key}"

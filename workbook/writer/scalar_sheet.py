@@ -47,7 +47,7 @@ def write_scalar_rows(ws, row, quantities, layout, results, styles, sheet_name):
     for quantity in quantities:
         ws.write(row, 0, quantity.key, styles.key)
         write_formula_cell(ws, row, 1, quantity, layout, results, styles, sheet_name)
-        ws.write(row, 2, unit_text(quantity.unit))
+        ws.write(row, 2, unit_text(quantity.unit), styles.top)
         wrapped_texts(ws, row, {3: (quantity.zh, WIDTHS[3]), 4: (quantity.en, WIDTHS[4])},
                       styles.text)
         row += 1

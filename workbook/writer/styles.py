@@ -23,9 +23,11 @@ class Styles:
         self._book = book
         self.lang = lang
         self._cache = {}
-        base = {"font_name": FONT, "font_size": 10}
+        # top: a cell beside wrapped text in a tall row stands on its first line
+        base = {"font_name": FONT, "font_size": 10, "valign": "top"}
         self.base = base
-        self.title = self._make(bold=True, font_size=14)
+        # taller than its row: at the bottom, it rises into the empty row above
+        self.title = self._make(bold=True, font_size=14, valign="bottom")
         self.subtitle = self._make(italic=True, font_color="#555555")
         self.warning = self._make(bold=True, font_color="#C00000")
         self.title_wrap = self._make(bold=True, font_size=14, text_wrap=True, valign="top")

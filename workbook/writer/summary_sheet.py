@@ -43,7 +43,7 @@ def write_summary_sheet(book, layout, values, results, styles):
         for offset, key in enumerate(key_data, start=1):
             item = spec.parameter.get(key) or spec.quantity.get(key)
             _labels(ws, row + offset, item, layout, styles)
-            ws.write(row + offset, 2, unit_text(item.unit))
+            ws.write(row + offset, 2, unit_text(item.unit), styles.top)
             value = values[key] if key in spec.parameter else results[key]
             ws.write_formula(row + offset, 3, f"={layout.locator.name(key)}",
                              styles.number(item.unit, getattr(item, "format", None)),
@@ -59,7 +59,7 @@ def write_summary_sheet(book, layout, values, results, styles):
     for quantity in summary_series(spec):
         row += 1
         _labels(ws, row, quantity, layout, styles)
-        ws.write(row, 2, unit_text(quantity.unit))
+        ws.write(row, 2, unit_text(quantity.unit), styles.top)
         for col, stat in enumerate(["max", "max_angle", "min", "min_angle"], start=3):
             key = f"{quantity.key}_{stat}"
             write_formula_cell(ws, row, col, spec.quantity[key], layout, results, styles, name)
@@ -71,7 +71,7 @@ def write_summary_sheet(book, layout, values, results, styles):
     for quantity in spec.results:
         row += 1
         _labels(ws, row, quantity, layout, styles)
-        ws.write(row, 2, unit_text(quantity.unit))
+        ws.write(row, 2, unit_text(quantity.unit), styles.top)
         write_formula_cell(ws, row, 3, quantity, layout, results, styles, name)
     ws.freeze_panes(rows["extremes"] + 1, 1)
     landscape_page(ws, WIDTHS, row)
