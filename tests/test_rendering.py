@@ -156,7 +156,9 @@ def test_a_student_workbook_and_the_teachers_reports_print(tmp_path, soffice):
     pdfs = recalc.convert([tmp_path / "class" / "students" / "s01.xlsx", *reports],
                           tmp_path / "pdf", target="pdf")
     pages = _pages(pdfs[0])
-    assert len(pages) <= 16                            # 40 before the column pairs
+    assert len(pages) <= 15                            # 40 before the column pairs
+    # the timing gears with the statement, not alone under the parameters' header
+    assert "正时齿轮" in pages[0] and "exhaust_closes" in pages[1]
     for pdf in pdfs:                                    # and the teacher's reports
         assert not any("###" in page for page in _pages(pdf)), pdf.name
         assert not _overlaps(pdf), (pdf.name, _overlaps(pdf)[:3])

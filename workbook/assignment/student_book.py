@@ -58,11 +58,11 @@ def _write(filename, assignment, spec, student, values, given, lang, rows):
             f"{first}:{xl_rowcol_to_cell(last_row, col, True, True)}"
         names[name] = f"={quote_sheet(sheet)}!{ref}"
 
-    _task_sheet(book, assignment, spec, student, values, lang, styles, define)
+    task = _task_sheet(book, assignment, spec, student, values, lang, styles, define)
     given_print = _given_sheet(book, given, lang, styles, define) if given else None
     answer = styles.number("-", "General", role="input")
-    tables = [_answer_sheet(book, sheet, assignment, spec, lang, styles, define, answer, rows)
-              for sheet in assignment.sheets]
+    tables = [task] + [_answer_sheet(book, sheet, assignment, spec, lang, styles, define,
+                                     answer, rows) for sheet in assignment.sheets]
     for ws in book.worksheets():
         landscape_page(ws)
     if given_print:
@@ -95,7 +95,9 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
     statement = assignment.statement(lang)
     task.merge_range(6, 0, 6, len(widths) - 1, statement, styles.text)
     task.set_row(6, row_points([(statement, sum(widths))]))
-    row = 8
+    # the short per-item tables (the timing gears) before the long parameter list:
+    # after it they fell on a page of their own under its repeated header
+    row = _item_tables(task, name, assignment, spec, values, lang, styles, define, 8, widths)
     for col, text in enumerate([both("键", "Key", lang), both("数值", "Value", lang),
                                 both("单位", "Unit", lang), "说明", "Description"]):
         task.write(row, col, text, styles.header)
@@ -114,9 +116,8 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
         task.write(row, 4, parameter.en, styles.text)
         task.set_row(row, row_points([(parameter.zh, widths[3]), (parameter.en, widths[4])]))
         define(f"p_{parameter.key}", name, row, 1)
-    row = _item_tables(task, name, assignment, spec, values, lang, styles, define, row + 2,
-                       widths)
     task.activate()
+    return task, widths, row
 
 
 def _item_tables(task, name, assignment, spec, values, lang, styles, define, row, widths):
@@ -130,8 +131,10 @@ def _item_tables(task, name, assignment, spec, values, lang, styles, define, row
         caption = assignment.axis_caption(axis.key, lang, values)
         task.write(row, 0, caption or both(axis.zh, axis.en, lang), styles.group)
         row += 1
+        # the quantity without its parenthesis ("齿数 z", not "…（曲轴齿轮在前…）"): the
+        # row labels say which gear is which, and a narrow column stays one line or two
         headers = [both(axis.label_zh, axis.label_en, lang)] + [
-            f"{p.zh} / {p.en}" if lang == "zh" else f"{p.en} / {p.zh}" for p in inputs]
+            both(p.zh.split("（")[0], p.en.split(" (")[0], lang) for p in inputs]
         for col, text in enumerate(headers):
             task.write(row, col, text, styles.header)
         task.set_row(row, row_points(zip(headers, widths), bold=True))

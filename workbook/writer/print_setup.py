@@ -123,7 +123,8 @@ def print_scale(widths, printable=PRINTABLE_POINTS[0]):
 def landscape_page(ws, widths=None, last_row=None):
     """A4 landscape, one page wide (tables of a few dozen rows).  Given the columns'
     ``widths`` (characters) and the last printed row, a table whose last page would
-    hold under a third of a page is shrunk onto one page fewer instead."""
+    hold under a third of a page is shrunk onto one page fewer instead, and one
+    estimated to end near a page's foot is held to its estimated pages."""
     ws.set_paper(A4)
     ws.set_landscape()
     ws.fit_to_pages(1, 0)
@@ -136,3 +137,8 @@ def landscape_page(ws, widths=None, last_row=None):
     pages = points * scale / PRINTABLE_POINTS[1]
     if pages > 1 and pages % 1 < 1 / 3:
         ws.fit_to_pages(1, int(pages))
+    elif pages % 1 > 0.85:
+        # the estimate is near a page's end, and the engines' fonts can spill a few
+        # rows onto a page of their own: at most the pages estimated (no effect when
+        # they fit anyway; an engine never enlarges)
+        ws.fit_to_pages(1, math.ceil(pages))
