@@ -55,6 +55,23 @@ def test_no_hashes_on_any_page(rendered):
         assert not any("###" in page for page in _pages(pdf)), key
 
 
+def test_no_block_of_the_results_table_is_split(rendered):
+    """The results table stacks one block per grid (the course design: Newton steps,
+    positions, 30 positions, the cams' angles …); every printed page of it starts a
+    block (each fits a page), where the last rows of one once printed alone."""
+    for key, (_, pdf) in rendered.items():
+        pages = _pages(pdf)
+        first = next((i for i, p in enumerate(pages)
+                      if "计算结果表 / Results table" in p or "Results table / 计算结果表" in p),
+                     None)
+        if first is None:
+            continue
+        charts = next(i for i, p in enumerate(pages) if i > first and
+                      ("图表 / Charts" in p or "Charts / 图表" in p))
+        note = "各计算表的列" if key[1] == "zh" else "The columns of the quantity sheets"
+        assert all(note in p for p in pages[first:charts]), (key, first + 1, charts)
+
+
 KEY_WORD = re.compile(r"^[a-z][a-z0-9]*(?:_[a-z0-9]+)+$")
 
 

@@ -77,7 +77,7 @@ def write_report_sheet(book, layout, results, styles):
     ws = book.add_worksheet(layout.sheet_name["report"])
     ws.write(0, 0, f"{FIXED_SHEETS['report'][lang]} / {FIXED_SHEETS['report'][layout.other]}",
              styles.title)
-    row, widest, tallest, notes = 1, 0, 0, []
+    row, widest, tallest, notes, blocks = 1, 0, 0, [], []
     for grid in grids:
         columns = _columns(layout, grid)
         if not columns:
@@ -110,7 +110,8 @@ def write_report_sheet(book, layout, results, styles):
                                  fmt, value if math.isfinite(value) else "")
         header_points = fit_header_rows(ws, header)
         widest = max(widest, len(columns))
-        tallest = max(tallest, (len(rows) + 5) * ROW_POINTS + header_points)
+        blocks.append((row, (len(rows) + 5) * ROW_POINTS + header_points))
+        tallest = max(tallest, blocks[-1][1])
         row = header + 3 + len(rows) + 1
     ws.set_column(0, 0, 10)
     ws.set_column(1, widest, COLUMN_WIDTH)
@@ -118,6 +119,7 @@ def write_report_sheet(book, layout, results, styles):
     capacity = max(1, int((PAGE_WIDTH_PX * 100 / scale - 75) / (COLUMN_WIDTH * 7 + 5)))
     per_page = math.ceil(widest / math.ceil(widest / capacity))    # pages alike
     ws.set_v_pagebreaks(list(range(1 + per_page, widest + 1, per_page)))
+    ws.set_h_pagebreaks(_blocks_kept_whole(blocks, scale))
     # the notes wrap across the first page's columns (a page wide even when the table
     # is narrower), so neither they nor the title are cut at the print area's edge
     span = per_page if widest > capacity else capacity
@@ -131,6 +133,19 @@ def write_report_sheet(book, layout, results, styles):
     ws.set_print_scale(scale)
     ws.print_area(0, 0, row, max(widest, span))
     return ws
+
+
+def _blocks_kept_whole(blocks, scale):
+    """Rows where a page must begin so that no block of ``blocks`` (first row, height
+    in points) is split, every block fitting on a page at ``scale`` (%): a table's last
+    rows no longer print alone on a page of their own."""
+    room, used, breaks = PAGE_HEIGHT_PT * 100 / scale, ROW_POINTS, []     # the title
+    for first, height in blocks:
+        if used + height > room and used > ROW_POINTS:
+            breaks.append(first)
+            used = 0
+        used += height
+    return breaks
 
 
 def _scale(points):
