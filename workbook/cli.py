@@ -225,8 +225,8 @@ def _build(args):
         path = results.to_excel(output, lang=args.lang)
     elapsed = time.perf_counter() - started
     spec = results.spec
-    facts = ", ".join(f"{key} {_shown(results[key])} {spec.quantity[key].unit}"
-                      for key in spec.highlights)
+    unit = lambda key: "" if spec.quantity[key].unit == "-" else f" {spec.quantity[key].unit}"
+    facts = ", ".join(f"{key} {_shown(results[key])}{unit(key)}" for key in spec.highlights)
     print(f"wrote {path} ({elapsed:.1f} s): {facts}")
     return 0
 
