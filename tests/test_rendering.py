@@ -144,6 +144,17 @@ def test_the_audit_prints_what_an_auditor_signs(tmp_path, soffice):
     assert any(re.search(r"^\s*key\s+section\s+line\s+derived", page, re.M) for page in pages)
     scales = {int(s) for s in re.findall(r'scale="(\d+)"', _sheet_xml(book, "thesis"))}
     assert scales and min(scales) >= 65                  # 10-point text at 6.5 points
+    # a document's last signed page holds a third of its fullest one's claims at least
+    # (the balancing ring's ninth claim printed alone on a page)
+    verdicts = re.compile(r"(?<!\S)(ok|mismatch|inconsistent|model-disagrees|outside-rule|"
+                          r"unverifiable)(?!\S)")
+    per_sheet = {}
+    for page in signed:
+        sheet = page.strip().splitlines()[-1].split()[0]            # the footer's name
+        per_sheet.setdefault(sheet, []).append(len(verdicts.findall(page)))
+    assert len(per_sheet) == 5
+    for sheet, counts in per_sheet.items():
+        assert counts[-1] * 3 >= max(counts), (sheet, counts)
     # the summary page: the table, the chart with a bar label per document and the
     # whole key of verdicts on one page
     from crankbook.audit.claims import VERDICTS, document_names

@@ -27,9 +27,11 @@ SIGNED = [("key", 22, True), ("claim", 32, True),
           ("quote (line, offset)", 20, True), ("reported", 10, False), ("unit", 6, False),
           ("recomputed", 12, False), ("deviation", 11, False), ("deviation %", 9, False),
           ("tolerance", 9, False), ("verdict", 12, True), ("note", 40, True)]
-EXPLAINED = [("section", 9, True), ("line", 5, False), ("derived", 12, False), ("derived: what", 18, True),
-             ("tolerance: why", 20, True), ("margin %", 9, False), ("kind", 9, False),
-             ("basis", 28, True)]
+# a page of their own after the signed columns, at their scale: wide enough that
+# their words do not make the rows taller than the signed columns need
+EXPLAINED = [("section", 9, True), ("line", 5, False), ("derived", 12, False),
+             ("derived: what", 30, True), ("tolerance: why", 34, True), ("margin %", 9, False),
+             ("kind", 9, False), ("basis", 48, True)]
 COLUMNS = SIGNED + EXPLAINED
 COL = {label: i for i, (label, _, _) in enumerate(COLUMNS)}
 INPUTS_AT = len(COLUMNS)            # input name/value pairs start in this column
@@ -324,8 +326,40 @@ def _page_setup(ws, last):
     ws.set_landscape()
     ws.set_margins(left=0.4, right=0.4, top=0.5, bottom=0.5)
     ws.set_v_pagebreaks([len(SIGNED)])
-    ws.set_print_scale(int(100 * print_scale([w for _, w, _ in SIGNED], 842 - 2 * 0.4 * 72)))
+    scale = print_scale([w for _, w, _ in SIGNED], 842 - 2 * 0.4 * 72)
+    ws.set_print_scale(_no_page_of_a_few_rows(ws, last, scale))
     ws.set_footer("&L&A&R&P / &N")
+
+
+PAGE_POINTS = 595 - 2 * 0.5 * 72       # A4 landscape less the top and bottom margins
+
+
+def _no_page_of_a_few_rows(ws, last, scale):
+    """The print scale (%): ``scale``'s, or the largest up to a sixth less (not below
+    READABLE_SCALE) at which the last page holds a third of the claims of the
+    fullest (the balancing ring's ninth claim printed alone): the rows' heights are
+    set, so this pagination is the engines'."""
+    height = lambda row: ws.row_sizes[row][0] * 0.75 if row in ws.row_sizes else 15
+    header, top = height(HEADER_ROW), sum(height(r) for r in range(HEADER_ROW + 1))
+    rows = [height(r) for r in range(HEADER_ROW + 1, last + 1)]
+
+    def claims_per_page(scale):
+        used, counts = top, [0]
+        for row in rows:                      # the header repeats on every page
+            if (used + row) * scale > PAGE_POINTS and counts[-1]:
+                used, counts = header, counts + [0]
+            used += row
+            counts[-1] += 1
+        return counts
+    start = int(100 * scale)               # a print scale is a whole percentage
+    for percent in range(start, math.ceil(100 * max(scale * 5 / 6, READABLE_SCALE)) - 1, -1):
+        counts = claims_per_page(percent / 100)
+        if len(counts) == 1 or counts[-1] * 3 >= max(counts):
+            return percent
+    return start
+
+
+READABLE_SCALE = 0.62                 # 10-point text printed at 6.2 points
 
 
 def _digits(display):
