@@ -162,6 +162,38 @@ def _sheet_files(path):
             for name, rid in sheets}
 
 
+def texts_cut_by_a_neighbour(path):
+    """(sheet, cell, text) of every unwrapped text wider than its column (or merged
+    span) whose right neighbour holds a value: the engines stop it at the column's
+    edge, on the screen and on paper.  Widths by print_setup's glyph model (Arial
+    10); a key's monospaced glyphs are wider, as KEY_COLUMNS_PER_CHARACTER says."""
+    from crankbook.writer.print_setup import KEY_COLUMNS_PER_CHARACTER, text_lines
+    book, cut = openpyxl.load_workbook(path), []
+    for ws in book.worksheets:
+        merged = {(r.min_row, r.min_col): r for r in ws.merged_cells.ranges}
+        inside = {(row, col) for r in ws.merged_cells.ranges
+                  for row in range(r.min_row, r.max_row + 1)
+                  for col in range(r.min_col, r.max_col + 1)}
+        for row in ws.iter_rows():
+            for cell in row:
+                if not isinstance(cell.value, str) or cell.value.startswith("=") or \
+                        (cell.alignment and cell.alignment.wrap_text):
+                    continue
+                span = merged.get((cell.row, cell.column))
+                cols = range(span.min_col, span.max_col + 1) if span else [cell.column]
+                neighbour = (cell.row, cols[-1] + 1)
+                if ws.cell(*neighbour).value in (None, "") and neighbour not in inside:
+                    continue
+                room = sum(ws.column_dimensions[get_column_letter(c)].width or 8.43
+                           for c in cols)
+                text = cell.value.split("\n")[0]
+                monospaced = cell.font is not None and cell.font.name == "Consolas"
+                if (monospaced and len(text) * KEY_COLUMNS_PER_CHARACTER + 1 > room) or \
+                        (not monospaced and text_lines(text, room) > 1):
+                    cut.append((ws.title, cell.coordinate, text[:40]))
+    return cut
+
+
 def cells_under_charts(path):
     """(sheet, cell, value) of every written cell that a chart covers: a chart
     anchored over a table hides it on the screen and on paper.  The anchors are the

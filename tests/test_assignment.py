@@ -19,7 +19,7 @@ from crankbook.reading import recalc
 from crankbook.assignment import template as templates
 from crankbook.assignment.scoring import score_cell
 from crankbook.calc import mechanism
-from tests.conftest import cells_under_charts, named, run_cli
+from tests.conftest import cells_under_charts, named, run_cli, texts_cut_by_a_neighbour
 
 ROSTER = [f"s{n:02d}" for n in range(1, 14)]
 NAMES = {sid: f"学生{n}号" for n, sid in enumerate(ROSTER, start=1)}
@@ -1040,6 +1040,7 @@ def test_no_chart_of_the_reports_hides_a_cell(pack, tmp_path):
     assert run_cli("grade", pack, subs, "-o", tmp_path / "r").returncode == 0
     for name in ("class-report", "gradebook", "integrity"):
         assert not cells_under_charts(tmp_path / "r" / f"{name}.xlsx"), name
+        assert not texts_cut_by_a_neighbour(tmp_path / "r" / f"{name}.xlsx"), name
 
 
 def test_groups_share_the_guides_table_and_keep_their_own_valve_trains(tmp_path):

@@ -71,13 +71,17 @@ def test_defined_names_are_valid_and_complete(tmp_path):
 
 @pytest.mark.parametrize("preset", ["thesis", "v8-crossplane", "course-design", "compressor",
                                     "offset-optimization"])
-def test_no_chart_hides_a_cell(tmp_path, preset):
-    """A chart anchored over a table or a chart frame's cells hides them."""
+@pytest.mark.parametrize("lang", ["zh", "en"])
+def test_no_chart_hides_a_cell_and_no_text_is_cut(tmp_path, preset, lang):
+    """A chart anchored over a table or a chart frame's cells hides them; a text
+    wider than its column is stopped by a value beside it ('stroke_study_swept_volume_alt',
+    'Section / mode 1')."""
     from crankbook import compute
-    from tests.conftest import cells_under_charts
+    from tests.conftest import cells_under_charts, texts_cut_by_a_neighbour
     step = None if preset == "offset-optimization" else 10
-    path = compute(preset, step=step).to_excel(tmp_path / "t.xlsx")
+    path = compute(preset, step=step).to_excel(tmp_path / "t.xlsx", lang=lang)
     assert not cells_under_charts(path)
+    assert not texts_cut_by_a_neighbour(path)
 
 
 def test_cells_beside_wrapped_text_stand_on_its_first_line(tmp_path):

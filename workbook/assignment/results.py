@@ -167,8 +167,7 @@ def write_gradebook_xlsx(path, table, w):
                     if name not in ("score", "max_score") and "(a_" not in name}
     for col, name in enumerate(header):
         ws.write_string(0, col, name, styles.header)
-        width = max(len(str(row[col])) if col < len(row) else 0 for row in table)
-        ws.set_column(col, col, min(max(10, width + 2), 60))
+        ws.set_column(col, col, _width(row[col] for row in table if col < len(row)))
     for r, row in enumerate(table[1:], start=1):
         for col, value in enumerate(row):
             if value == "" or value is None:

@@ -5,7 +5,8 @@ import math
 from crankbook.writer.charts import add_chart
 from crankbook.writer.layout import FIRST_ROW, label
 from crankbook.writer.parameters_sheet import input_cell, validation
-from crankbook.writer.print_setup import format_words_width, landscape_page, wrapped_title
+from crankbook.writer.print_setup import (format_words_width, key_width, landscape_page,
+                                         wrapped_title)
 from crankbook.writer.scalar_sheet import write_formula_cell
 from crankbook.writer.series_sheet import fit_header_rows, headers
 from crankbook.writer.styles import in_language
@@ -20,7 +21,9 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     ws = book.add_worksheet(name)
     last_col = max([layout.places[p.key].col for p in plan.inputs] +
                    [layout.places[q.key].col for q in plan.columns] + [0])
-    widths = [12] + [COLUMN_WIDTH] * last_col
+    item_values = results[axis.value_key] if axis.value_key in results else [None] * count
+    labels = [axis.label(layout.lang, i + 1, item_values[i]) for i in range(count)]
+    widths = [key_width(labels, 12)] + [COLUMN_WIDTH] * last_col
     pages_wide = math.ceil(sum(w * 7 + 5 for w in widths) / PAGE_PIXELS)
     # a table printed several pages wide: the titles wrap within its first page's share
     # of the columns (a merged cell cut by a page break loses its text)
@@ -28,10 +31,9 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     wrapped_title(ws, 0, label(sheet, layout.lang, "title_"), first_page, styles.title_wrap)
     wrapped_title(ws, 1, label(sheet, layout.other, "title_"), first_page, styles.subtitle_wrap)
     headers(ws, 0, (label(axis, layout.lang), label(axis, layout.other)), "-", layout, styles,
-            width=12)
-    item_values = results[axis.value_key] if axis.value_key in results else [None] * count
-    for i in range(count):
-        ws.write(FIRST_ROW + i, 0, axis.label(layout.lang, i + 1, item_values[i]), styles.key)
+            width=widths[0])
+    for i, text in enumerate(labels):
+        ws.write(FIRST_ROW + i, 0, text, styles.key)
     for parameter in plan.inputs:
         col = layout.places[parameter.key].col
         headers(ws, col, (label(parameter, layout.lang), label(parameter, layout.other)),
