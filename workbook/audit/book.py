@@ -332,21 +332,22 @@ def _page_setup(ws, last):
 
 
 PAGE_POINTS = 595 - 2 * 0.5 * 72       # A4 landscape less the top and bottom margins
+READABLE_SCALE = 0.62                 # 10-point text printed at 6.2 points
 
 
 def _no_page_of_a_few_rows(ws, last, scale):
-    """The print scale (%): ``scale``'s, or the largest up to a sixth less (not below
-    READABLE_SCALE) at which the last page holds a third of the claims of the
-    fullest (the balancing ring's ninth claim printed alone): the rows' heights are
+    """The print scale (%): ``scale``, or the largest up to a sixth smaller (never
+    under READABLE_SCALE) at which the last page holds a third of the claims of the
+    fullest (the balancing ring's ninth claim printed alone).  The rows' heights are
     set, so this pagination is the engines'."""
     height = lambda row: ws.row_sizes[row][0] * 0.75 if row in ws.row_sizes else 15
     header, top = height(HEADER_ROW), sum(height(r) for r in range(HEADER_ROW + 1))
     rows = [height(r) for r in range(HEADER_ROW + 1, last + 1)]
 
-    def claims_per_page(scale):
+    def claims_per_page(fraction):
         used, counts = top, [0]
         for row in rows:                      # the header repeats on every page
-            if (used + row) * scale > PAGE_POINTS and counts[-1]:
+            if (used + row) * fraction > PAGE_POINTS and counts[-1]:
                 used, counts = header, counts + [0]
             used += row
             counts[-1] += 1
@@ -357,9 +358,6 @@ def _no_page_of_a_few_rows(ws, last, scale):
         if len(counts) == 1 or counts[-1] * 3 >= max(counts):
             return percent
     return start
-
-
-READABLE_SCALE = 0.62                 # 10-point text printed at 6.2 points
 
 
 def _digits(display):
