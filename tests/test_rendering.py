@@ -139,6 +139,8 @@ def test_the_audit_prints_what_an_auditor_signs(tmp_path, soffice):
     assert not _overlaps(pdf), _overlaps(pdf)[:3]
     pages = _pages(pdf)
     assert not any("###" in page for page in pages)
+    guide = (ROOT / "docs" / "auditor.md").read_text(encoding="utf-8").replace("\n", " ")
+    assert f"print in {len(pages)} pages" in guide
     signed = [page for page in pages if re.search(r"^\s*key\s+claim\s+quote", page, re.M)]
     assert signed and all("note" in page for page in signed)
     assert any(re.search(r"^\s*key\s+section\s+line\s+derived", page, re.M) for page in pages)
