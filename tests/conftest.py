@@ -162,6 +162,23 @@ def _sheet_files(path):
             for name, rid in sheets}
 
 
+def unwrapped_texts(ws, **bounds):
+    """(cell, its merged span or None) of every text of ``ws`` that does not wrap (a
+    formula's text excepted), within iter_rows' ``bounds``: such a text runs on into
+    the empty cells to its right and is cut where they end."""
+    merged = {(r.min_row, r.min_col): r for r in ws.merged_cells.ranges}
+    for row in ws.iter_rows(**bounds):
+        for cell in row:
+            if isinstance(cell.value, str) and not cell.value.startswith("=") and \
+                    not (cell.alignment and cell.alignment.wrap_text):
+                yield cell, merged.get((cell.row, cell.column))
+
+
+def column_width(ws, col):
+    """Characters of a column's width (Excel's default where none is set)."""
+    return ws.column_dimensions[get_column_letter(col)].width or 8.43
+
+
 def texts_cut_by_a_neighbour(path):
     """(sheet, cell, text) of every unwrapped text wider than its column (or merged
     span) whose right neighbour holds a value: the engines stop it at the column's
@@ -170,27 +187,20 @@ def texts_cut_by_a_neighbour(path):
     from crankbook.writer.print_setup import KEY_COLUMNS_PER_CHARACTER, text_lines
     book, cut = openpyxl.load_workbook(path), []
     for ws in book.worksheets:
-        merged = {(r.min_row, r.min_col): r for r in ws.merged_cells.ranges}
         inside = {(row, col) for r in ws.merged_cells.ranges
                   for row in range(r.min_row, r.max_row + 1)
                   for col in range(r.min_col, r.max_col + 1)}
-        for row in ws.iter_rows():
-            for cell in row:
-                if not isinstance(cell.value, str) or cell.value.startswith("=") or \
-                        (cell.alignment and cell.alignment.wrap_text):
-                    continue
-                span = merged.get((cell.row, cell.column))
-                cols = range(span.min_col, span.max_col + 1) if span else [cell.column]
-                neighbour = (cell.row, cols[-1] + 1)
-                if ws.cell(*neighbour).value in (None, "") and neighbour not in inside:
-                    continue
-                room = sum(ws.column_dimensions[get_column_letter(c)].width or 8.43
-                           for c in cols)
-                text = cell.value.split("\n")[0]
-                monospaced = cell.font is not None and cell.font.name == "Consolas"
-                if (monospaced and len(text) * KEY_COLUMNS_PER_CHARACTER + 1 > room) or \
-                        (not monospaced and text_lines(text, room) > 1):
-                    cut.append((ws.title, cell.coordinate, text[:40]))
+        for cell, span in unwrapped_texts(ws):
+            cols = range(span.min_col, span.max_col + 1) if span else [cell.column]
+            neighbour = (cell.row, cols[-1] + 1)
+            if ws.cell(*neighbour).value in (None, "") and neighbour not in inside:
+                continue
+            room = sum(column_width(ws, c) for c in cols)
+            text = cell.value.split("\n")[0]
+            monospaced = cell.font is not None and cell.font.name == "Consolas"
+            if (monospaced and len(text) * KEY_COLUMNS_PER_CHARACTER + 1 > room) or \
+                    (not monospaced and text_lines(text, room) > 1):
+                cut.append((ws.title, cell.coordinate, text[:40]))
     return cut
 
 

@@ -17,8 +17,8 @@ from crankbook import compute
 from crankbook.reading import recalc
 from crankbook.spec.loader import load as load_spec
 from crankbook.support.toml_files import names_in
-from crankbook.writer.charts import FRAME_LABEL, frame_values
-from tests.conftest import ROOT, named, run_cli
+from crankbook.writer.charts import FRAME_LABEL, Frame
+from tests.conftest import ROOT, column_width, named, run_cli, unwrapped_texts
 
 pytestmark = pytest.mark.libreoffice
 PRESETS = names_in("presets")
@@ -421,16 +421,17 @@ def test_the_polar_frame_follows_an_edited_speed(tmp_path, soffice, speed):
     assert x1 - x0 == pytest.approx(y1 - y0)                      # square
     assert x0 <= tangential.min() and tangential.max() <= x1      # never clipped
     assert y0 <= radial.min() and radial.max() <= y1
-    unit = frame_values([built["crankpin_load_tangential"]], [built["crankpin_load_radial"]])[4]
-    expected = frame_values([tangential], [radial], unit=unit)
-    assert (x0, y0, x1 - x0) == pytest.approx(expected[:3])      # the formula is the arithmetic
+    unit = Frame([built["crankpin_load_tangential"]], [built["crankpin_load_radial"]]).step
+    expected = Frame([tangential], [radial], unit=unit)
+    assert (x0, y0, x1 - x0) == pytest.approx(                    # the formula is the arithmetic
+        (expected.start[0], expected.start[1], expected.end[0] - expected.start[0]))
 
 
 def _cut_at_print_edge(path):
     """(sheet, cell, text) of every unwrapped text in a printed area that runs past
     its right edge: LibreOffice and Excel clip it there, though the text is in the PDF
     (so the PDF checks above cannot see it)."""
-    from openpyxl.utils import get_column_letter, range_boundaries
+    from openpyxl.utils import range_boundaries
     from crankbook.writer.print_setup import text_lines
     book, out = openpyxl.load_workbook(path), []
     for ws in book.worksheets:
@@ -438,26 +439,19 @@ def _cut_at_print_edge(path):
             continue
         area = str(ws.print_area).split("!")[-1].replace("$", "")
         _, top, last, bottom = range_boundaries(area)
-        width = {c: ws.column_dimensions[get_column_letter(c)].width or 8.43
-                 for c in range(1, last + 1)}
-        merged = {(r.min_row, r.min_col): r for r in ws.merged_cells.ranges}
-        for row in ws.iter_rows(min_row=top, max_row=bottom, max_col=last):
-            for cell in row:
-                if not isinstance(cell.value, str) or cell.value.startswith("=") or \
-                        (cell.alignment and cell.alignment.wrap_text):
-                    continue
-                span = merged.get((cell.row, cell.column))
-                if span is not None:
-                    if span.max_col < last:
-                        continue                       # ends inside the page: not at its edge
-                    room = sum(width[c] for c in range(span.min_col, last + 1))
-                else:
-                    beyond = range(cell.column + 1, last + 1)
-                    if any(ws.cell(cell.row, c).value not in (None, "") for c in beyond):
-                        continue                       # a neighbour stops it inside the page
-                    room = sum(width[c] for c in range(cell.column, last + 1))
-                if text_lines(cell.value.split("\n")[0], room) > 1:
-                    out.append((ws.title, cell.coordinate, cell.value[:60]))
+        for cell, span in unwrapped_texts(ws, min_row=top, max_row=bottom, max_col=last):
+            if span is not None:
+                if span.max_col < last:
+                    continue                       # ends inside the page: not at its edge
+                first = span.min_col
+            else:
+                beyond = range(cell.column + 1, last + 1)
+                if any(ws.cell(cell.row, c).value not in (None, "") for c in beyond):
+                    continue                       # a neighbour stops it inside the page
+                first = cell.column
+            room = sum(column_width(ws, c) for c in range(first, last + 1))
+            if text_lines(cell.value.split("\n")[0], room) > 1:
+                out.append((ws.title, cell.coordinate, cell.value[:60]))
     return out
 
 

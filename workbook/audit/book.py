@@ -17,7 +17,7 @@ from crankbook.support.atomic import atomic_path
 from crankbook.audit.claims import (FORMULA_AGREEMENT, INPUT, NOISE_FLOOR, STATUS_OF_KIND,
                                     VERDICTS, coverage, shown)
 from crankbook.writer.build import FIXED_TIME
-from crankbook.writer.print_setup import A4, print_scale, row_points
+from crankbook.writer.print_setup import A4, print_scale, row_height, row_points
 from crankbook.writer.styles import Styles
 
 # (label, width in characters, wrapped).  The columns an auditor signs come first and
@@ -340,7 +340,7 @@ def _no_page_of_a_few_rows(ws, last, scale):
     under READABLE_SCALE) at which the last page holds a third of the claims of the
     fullest (the balancing ring's ninth claim printed alone).  The rows' heights are
     set, so this pagination is the engines'."""
-    height = lambda row: ws.row_sizes[row][0] * 0.75 if row in ws.row_sizes else 15
+    height = lambda row: row_height(ws, row, 15)
     header, top = height(HEADER_ROW), sum(height(r) for r in range(HEADER_ROW + 1))
     rows = [height(r) for r in range(HEADER_ROW + 1, last + 1)]
 

@@ -64,13 +64,6 @@ def nice_step(span):
     return power * (1 if ratio <= 1 else 2 if ratio <= 2 else 5 if ratio <= 5 else 10)
 
 
-def frame_values(xs, ys, unit=None):
-    """(x0, y0, length, span, step): the square frame of an equal-axis chart, its
-    lower-left corner and side (see ``Frame``)."""
-    frame = Frame(xs, ys, unit)
-    return frame.start[0], frame.start[1], frame.end[0] - frame.start[0], frame.span, frame.step
-
-
 class Frame:
     """The square frame of an equal-axis chart, the arithmetic of its live formulas
     operation for operation (so the cached values are the ones engines compute).
@@ -159,12 +152,11 @@ def _live_name(ws, layout, sheet, cell, name, values, y):
             "name_data": [cached]}
 
 
-def write_frame(ws, layout, sheet_spec, chart_spec, x_ranges, y_ranges, xs, ys, styles):
-    """The live frame of an equal-axis chart, beside it on its sheet: its corners are
-    formulas on the plotted ranges (``Frame``'s arithmetic), so the axes (automatic)
-    follow every edit."""
+def write_frame(ws, layout, sheet_spec, chart_spec, x_ranges, y_ranges, frame, styles):
+    """The live ``frame`` of an equal-axis chart, beside it on its sheet: its corners
+    are formulas on the plotted ranges (``Frame``'s arithmetic), so the axes
+    (automatic) follow every edit."""
     row, col = _frame_block(layout, sheet_spec, chart_spec)
-    frame = Frame(xs, ys)
     cell = lambda r, c: xl_rowcol_to_cell(r, c, True, True)
     span_cell, step_cell, tick_cell, margin_cell = (cell(row + 1, col + k) for k in (1, 2, 3, 4))
     lo = lambda ranges: f"MIN(0,{','.join(ranges)})"
@@ -203,11 +195,10 @@ def write_frame(ws, layout, sheet_spec, chart_spec, x_ranges, y_ranges, xs, ys, 
                      + ")", None, frame.tick)
 
 
-def _frame_series(layout, sheet_spec, chart_spec, xs, ys):
-    """The invisible two-point series of the frame's corners (with their cache)."""
+def _frame_series(layout, sheet_spec, chart_spec, frame):
+    """The invisible two-point series of the ``frame``'s corners (with their cache)."""
     row, col = _frame_block(layout, sheet_spec, chart_spec)
     sheet = quote_sheet(layout.sheet_name[sheet_spec.key])
-    frame = Frame(xs, ys)
     return {"name": FRAME_LABEL[layout.lang],
             "categories": f"{sheet}!{xl_range_abs(row + 2, col + 1, row + 2, col + 2)}",
             "values": f"{sheet}!{xl_range_abs(row + 3, col + 1, row + 3, col + 2)}",
@@ -317,15 +308,15 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
     size = dict(size or (EQUAL_AXES_SIZE if chart_spec.equal_axes else CHART_SIZE))
     legend = {"position": "bottom"} if curves > 1 else {"none": True}
     if chart_spec.equal_axes:
+        frame = Frame(xs, ys)
         if ws is not None:
-            write_frame(ws, layout, sheet_spec, chart_spec, used_x, used_y, xs, ys, styles)
-        chart.add_series(_frame_series(layout, sheet_spec, chart_spec, xs, ys))
+            write_frame(ws, layout, sheet_spec, chart_spec, used_x, used_y, frame, styles)
+        chart.add_series(_frame_series(layout, sheet_spec, chart_spec, frame))
         # automatic bounds over the frame, one major unit on both (the build's frame
         # step); the axes cross at the origin, their labels at the edge
-        step = Frame(xs, ys).step
         # thousands as "k": labels stay short enough to stand upright
-        numbers = {"num_font": {"size": 8}, "major_unit": step, "crossing": 0}
-        if step >= 1000:
+        numbers = {"num_font": {"size": 8}, "major_unit": frame.step, "crossing": 0}
+        if frame.step >= 1000:
             numbers["num_format"] = '0,"k"'
         x_axis.update(numbers)
         y_axis.update(numbers, label_position="low")

@@ -120,6 +120,11 @@ def print_scale(widths, printable=PRINTABLE_POINTS[0]):
     return min(1.0, printable * 4 / 3 / sum(8 * w + 5 for w in widths))
 
 
+def row_height(ws, row, unset):
+    """Points of a worksheet's ``row`` as set (xlsxwriter keeps pixels), else ``unset``."""
+    return ws.row_sizes[row][0] * 0.75 if row in ws.row_sizes else unset
+
+
 def landscape_page(ws, widths=None, last_row=None):
     """A4 landscape, one page wide (tables of a few dozen rows).  Given the columns'
     ``widths`` (characters) and the last printed row, a table whose last page would
@@ -132,8 +137,7 @@ def landscape_page(ws, widths=None, last_row=None):
         return
     scale = print_scale(widths)
     # LibreOffice makes a row of its own height up to 17 pt tall (with CJK glyphs)
-    points = sum(ws.row_sizes[row][0] * 0.75 if row in ws.row_sizes else 17
-                 for row in range(last_row + 1))
+    points = sum(row_height(ws, row, 17) for row in range(last_row + 1))
     pages = points * scale / PRINTABLE_POINTS[1]
     if pages > 1 and pages % 1 < 1 / 3:
         ws.fit_to_pages(1, int(pages))
