@@ -902,6 +902,12 @@ def test_annotated_returns_colour_the_students_own_cells(pack, tmp_path, soffice
                     (path.name, other)
                 assert NAMES[other] not in text, (path.name, other)
     assert (back / "s01.html").is_file() and "未" in (back / "s01.html").read_text("utf-8")
+    # same submissions, same bytes: no clock in the returned files
+    again = run_cli("grade", pack, subs, "-o", tmp_path / "res2", "--return", tmp_path / "back2",
+                    "--feedback", "hints")
+    assert again.returncode == 0, again.stderr
+    assert {p.name: p.read_bytes() for p in back.iterdir()} == \
+        {p.name: p.read_bytes() for p in (tmp_path / "back2").iterdir()}
     # LibreOffice opens the returned workbook and keeps the colours and comments
     saved = recalc.convert([back / "s05.xlsx"], tmp_path / "lo")[0]
     again = openpyxl.load_workbook(saved)

@@ -8,14 +8,18 @@ Only the student's own file, own values and own notes go in: never a flag, a
 suspicion or another student's id (the private notes stay in the teacher's files).
 """
 import html
+import io
+import zipfile
 from pathlib import Path
 
 import openpyxl
+from openpyxl.writer.excel import ExcelWriter
 from openpyxl.comments import Comment
 from openpyxl.styles import Alignment, Border, Font, PatternFill, Side
 
 from crankbook.assignment.results import (_item_summary, _points, reason_text, say, shown,
                                           student_notes, words)
+from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.layout import unit_text
 from crankbook.reading.workbook_reader import parse_reference
 
@@ -86,7 +90,22 @@ def annotate(sub, g, assignment, lang, mode, target):
                 cell.comment = comment
     _own_identity(book, g, sheets)
     _score_box(book, g, assignment, lang, w)
-    book.save(target)
+    _save_reproducibly(book, target)
+
+
+def _save_reproducibly(book, target):
+    """Same submission, same bytes: openpyxl's ``save`` stamps the clock into the core
+    properties and into every zip entry, so the file is written here with the
+    workbooks' fixed time in both."""
+    book.properties.modified = FIXED_TIME
+    buffer = io.BytesIO()
+    ExcelWriter(book, zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED)).save()
+    with zipfile.ZipFile(buffer) as source, \
+            zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as archive:
+        for entry in source.infolist():
+            fixed = zipfile.ZipInfo(entry.filename, date_time=FIXED_TIME.timetuple()[:6])
+            fixed.compress_type = zipfile.ZIP_DEFLATED
+            archive.writestr(fixed, source.read(entry))
 
 
 def _own_identity(book, g, sheets):
