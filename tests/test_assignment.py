@@ -716,6 +716,11 @@ def test_a_resubmission_round_loses_nothing(graded, pack, tmp_path):
     assert "符号相反" in text
     report = openpyxl.load_workbook(tmp_path / "r2" / "class-report.xlsx")
     assert "11/13" in report["各题"]["A1"].value
+    # s07 kept round 1's copy flag, and the integrity report still gives its evidence
+    integrity = openpyxl.load_workbook(tmp_path / "r2" / "integrity.xlsx").active
+    pairs = [[c.value for c in row] for row in integrity.iter_rows(min_row=5)]
+    assert any(str(r[0]).startswith("s07") and str(r[1]).startswith("s08") and r[3]
+               for r in pairs)
 
 
 def test_a_gradebook_as_teachers_open_it(tmp_path):

@@ -265,7 +265,7 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
            missing_as_zero, progress, returns, options):
     sweep_temporary()                  # scratch copies and engines of killed runs
     w = words(lang)
-    earlier = rounds.load(previous, assignment) if previous else {}
+    earlier, earlier_suspicions = rounds.load(previous, assignment) if previous else ({}, [])
 
     shapes = answer_shapes(options.whole, lang, spec)   # every answer: positions need angles
     subs = prepare(discover(root), root)
@@ -331,6 +331,8 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
     this_round = dict(grades)
     for sid in grades:
         grades[sid] = rounds.keep(grades[sid], earlier.get(sid), keep)
+    suspicions = rounds.kept_suspicions(grades, this_round, earlier, suspicions,
+                                        earlier_suspicions)
     apply_overrides(grades, options.decisions, assignment)
     unmatched = [s for s in subs if s.student_id not in grades]
     with staged_directory(output, replace=True) as staging:

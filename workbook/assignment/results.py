@@ -115,7 +115,7 @@ def write_results(output, assignment, spec, lang, grades, unmatched, feedback="f
         (output / "feedback" / f"{g.student_id}.md").write_text(
             feedback_text(g, assignment, lang, feedback), encoding="utf-8")
     write_integrity_report(output / "integrity.xlsx", lang, grades, suspicions)
-    rounds.save(output / rounds.FILE, grades, assignment)
+    rounds.save(output / rounds.FILE, grades, assignment, suspicions)
     write_class_report(output / "class-report.xlsx", assignment, lang, grades)
 
 

@@ -2,17 +2,21 @@
 nothing.
 
 ``grades.json`` in a results directory (teacher-side) holds each student's status,
-items with every cell's result, flags and notes.  ``grade --previous DIR`` reads it:
-a student who did not resubmit keeps the earlier round's row — items, flags and
-feedback, not only the total — and ``--keep best`` takes the better round whole.
+items with every cell's result, flags and notes, and the round's copy suspicions.
+``grade --previous DIR`` reads it: a student who did not resubmit keeps the earlier
+round's row — items, flags and feedback, not only the total, and the suspicion
+behind a flag, so the integrity report still gives its evidence — and ``--keep
+best`` takes the better round whole.
 Results written before grades.json existed are read from their gradebook.csv
 (totals and per-item points).
 """
 import csv
+import dataclasses
 import json
 import math
 from pathlib import Path
 
+from crankbook.assignment.integrity import Suspicion
 from crankbook.assignment.scoring import CellResult
 from crankbook.errors import CrankbookError
 
@@ -20,8 +24,8 @@ FILE = "grades.json"
 MAX_BYTES = 50 * 1024 * 1024
 
 
-def save(path, grades, assignment):
-    """Write every grade of this round to ``path`` (JSON)."""
+def save(path, grades, assignment, suspicions=()):
+    """Write every grade and suspicion of this round to ``path`` (JSON)."""
     students = []
     for g in grades:
         students.append({
@@ -32,7 +36,9 @@ def save(path, grades, assignment):
                                       c.fraction, c.reason, c.detail] for c in cells]]
                       for key, (points, cells) in g.items.items()}})
     text = json.dumps({"assignment": assignment.key, "max_score": assignment.max_score,
-                       "students": students}, ensure_ascii=False, indent=0)
+                       "students": students,
+                       "suspicions": [dataclasses.asdict(s) for s in suspicions]},
+                      ensure_ascii=False, indent=0, default=float)   # numpy shares
     Path(path).write_text(text + "\n", encoding="utf-8")
 
 
@@ -43,11 +49,12 @@ def _plain(value):
 
 
 def load(previous, assignment):
-    """student_id -> Grade of an earlier round (graded students only)."""
+    """(student_id -> Grade of an earlier round (graded students only), that round's
+    suspicions)."""
     folder = Path(previous)
     path = folder / FILE
     if not path.is_file():
-        return _legacy(folder, assignment)
+        return _legacy(folder, assignment), []
     try:
         if path.stat().st_size > MAX_BYTES:
             raise ValueError("too large")
@@ -55,7 +62,9 @@ def load(previous, assignment):
         if data.get("assignment") != assignment.key:
             raise CrankbookError(f"--previous {previous}: graded another assignment "
                                  f"({str(data.get('assignment'))[:40]!r})")
-        return {g.student_id: g for g in map(_grade, data["students"]) if g.status == "graded"}
+        grades = {g.student_id: g for g in map(_grade, data["students"])
+                  if g.status == "graded"}
+        return grades, [_suspicion(entry) for entry in data.get("suspicions", [])]
     except CrankbookError:
         raise
     except (OSError, ValueError, KeyError, TypeError, AttributeError) as error:
@@ -77,6 +86,23 @@ def _grade(entry):
                        float(fraction), str(reason), dict(detail))
             for label, value, expected, fraction, reason, detail in cells])
     return g
+
+
+def _suspicion(entry):
+    return Suspicion(who=str(entry["who"]), whom=None if entry["whom"] is None else
+                     str(entry["whom"]), kinds=[str(k) for k in entry["kinds"]],
+                     evidence=dict(entry.get("evidence", {})),
+                     source_known=bool(entry.get("source_known", False)))
+
+
+def kept_suspicions(grades, now, earlier, suspicions, earlier_suspicions):
+    """The suspicions behind the grades kept: this round's for a student graded on this
+    round's file, the earlier round's for one whose earlier grade was kept."""
+    kept = []
+    for found, round_grades in ((suspicions, now), (earlier_suspicions, earlier)):
+        kept += [s for s in found if s.who in grades and
+                 grades[s.who] is round_grades.get(s.who)]
+    return kept
 
 
 def _legacy(folder, assignment):
