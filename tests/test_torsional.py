@@ -306,3 +306,20 @@ def test_thomsons_holzer_table_row_by_row():
         amplitude, shaft = torsional.holzer(omega, J, K)
         assert amplitude[0] == pytest.approx(theta, abs=6e-4), omega
         assert shaft[0] == pytest.approx(torque, rel=6e-4), omega
+
+
+def test_a_modes_columns_are_headed_by_the_mode(tmp_path):
+    """The sections and modes share one count; a critical speed, a vector sum or a mode
+    shape belongs to a mode, and its header and legend say so ("Mode 2"), never
+    "Section / mode 2"."""
+    import openpyxl
+    from crankbook import compute
+    path = compute("inline-4", step=6).to_excel(tmp_path / "i4.xlsx", lang="en")
+    book = openpyxl.load_workbook(path)
+    headers = [c.value for ws in (book["Critical speeds"], book["Mode shapes"])
+               for row in ws.iter_rows(max_row=6) for c in row
+               if isinstance(c.value, str) and " — " in c.value]
+    assert headers and all(h.rsplit(" — ", 1)[1].startswith(("Mode ", "振型 "))
+                           for h in headers)           # the header's two languages
+    rows = [c.value for c in book["Sections, frequencies"]["A"] if isinstance(c.value, str)]
+    assert "Section / mode 1" in rows            # the shared rows keep the shared label

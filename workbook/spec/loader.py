@@ -115,7 +115,8 @@ def _quantity(entry, kind, **extra):
         _need(entry, field, kind)
     known = {"key", "unit", "zh", "en", "formula", "calc", "args", "part", "summary", "format",
              "first",
-             "guard", "array", "items", "_file", "_prefix", "names", "discrete", "must_pass"}
+             "guard", "array", "items", "_file", "_prefix", "names", "discrete", "must_pass",
+             "item_word_zh", "item_word_en"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, entry["key"], f"unknown field(s) {', '.join(sorted(unknown))}")
@@ -126,6 +127,8 @@ def _quantity(entry, kind, **extra):
                     format=entry.get("format"), first=entry.get("first"),
                     guard=entry.get("guard", True), array=entry.get("array", False),
                     items=entry.get("items"), names=tuple(entry.get("names", ())),
+                    item_word={lang: entry[f"item_word_{lang}"] for lang in ("zh", "en")
+                               if f"item_word_{lang}" in entry},
                     discrete=entry.get("discrete", False),
                     must_pass=entry.get("must_pass", False),
                     source=file, **extra)

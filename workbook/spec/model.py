@@ -152,6 +152,10 @@ class Quantity:
     grid: str | None = None       # series: the grid it is tabulated on
     first: str | None = None      # series: formula of the first row (recurrences)
     items: str | None = None      # per-item: the axis (a block of columns for a series)
+    # the word before an item's number in this quantity's headers and legend names
+    # ({"zh": …, "en": …}), where its axis is shared by two meanings: a torsional
+    # system's sections and modes are counted alike, a critical speed belongs to a mode
+    item_word: dict = field(default_factory=dict)
     guard: bool = True            # wrapped in IF(q_inputs_valid=1, …, "")
     array: bool = False           # written as a legacy (Ctrl+Shift+Enter) array formula
     start: float | None = None    # numeric grids: start, stop, step, and a period

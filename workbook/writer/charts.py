@@ -31,7 +31,8 @@ def _ranges(layout, key, short=False, chart_spec=None):
     count = place.count if chart_spec is None or chart_spec.curves is None else \
         min(place.count, chart_spec.curves)
     curve = chart_spec and (chart_spec.curve_zh if layout.lang == "zh" else chart_spec.curve_en)
-    words = [f"{curve} {i + 1}" if curve else layout.item_label(quantity.items, layout.lang, i + 1)
+    words = [f"{curve} {i + 1}" if curve else
+             layout.item_label(quantity.items, layout.lang, i + 1, quantity.item_word)
              for i in range(count)]
     return [(words[i] if short or curve else f"{label(quantity, layout.lang)} — {words[i]}",
              locator.column_range(key, col=place.col + i)) for i in range(count)]

@@ -82,10 +82,13 @@ class Layout:
                           tuple(sorted(axis_sizes.items())),
                           tuple(sorted(self.table_capacity.items())))
 
-    def item_label(self, axis_key, lang, item):
+    def item_label(self, axis_key, lang, item, word=None):
         """'Throw 2', or for an item of a product axis 'Throw 2 · Pressure 3' (a part
-        whose axis has a single item is left out)."""
+        whose axis has a single item is left out); ``word`` (a quantity's
+        ``item_word``) names the item instead of the axis' label: 'Mode 2'."""
         axis = self.spec.axis[axis_key]
+        if word and lang in word:
+            return f"{word[lang]} {item}"
         if not axis.product:
             return axis.label(lang, item)
         first, second = axis.product

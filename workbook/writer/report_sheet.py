@@ -58,7 +58,8 @@ def _columns(layout, grid):
                 for lang in (layout.lang, layout.other):
                     text = label(quantity, lang)
                     if quantity.items:
-                        text += f" — {layout.item_label(quantity.items, lang, offset + 1)}"
+                        text += " — " + layout.item_label(quantity.items, lang, offset + 1,
+                                                          quantity.item_word)
                     words.append(text)
                 out.append((words, quantity.unit, place.sheet, place.col + offset,
                             quantity.key, offset if quantity.items else None))

@@ -128,7 +128,8 @@ def _write_column(ws, quantity, layout, results, styles, sheet_name, rows):
         if item is None:
             words = _words(quantity, layout)
         else:
-            words = tuple(f"{label(quantity, lang)} — {layout.item_label(quantity.items, lang, item)}"
+            words = tuple(f"{label(quantity, lang)} — "
+                          f"{layout.item_label(quantity.items, lang, item, quantity.item_word)}"
                           for lang in (layout.lang, layout.other))
         headers(ws, col, words, quantity.unit, layout, styles)
         template = layout.series_template(quantity, sheet_name, item)
