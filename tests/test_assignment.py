@@ -1086,6 +1086,28 @@ def test_groups_share_the_guides_table_and_keep_their_own_valve_trains(tmp_path)
     assert not (tmp_path / "bad").exists() and not (tmp_path / "none").exists()
 
 
+def test_every_group_of_the_presets_table_can_be_assigned(tmp_path):
+    """A group shares its mechanism: a row whose mechanism breaks a rule of the class
+    pack (two positions closer than min_position_separation) could never be drawn for,
+    whatever the valve train.  Every row of the preset's table makes a usable one, and
+    a teacher's row that does not is refused in one line that says why."""
+    from crankbook.spec import params
+    from crankbook.assignment.groups import group_table
+    from crankbook.assignment.variants import rejection
+    spec, base, meta = params.load_preset("course-design")
+    assignment = templates.for_preset("course-design")
+    table = group_table(spec, meta, "preset")
+    assert {number: rejection(assignment, spec, {**base, **row})
+            for number, row in table.items()} == {number: None for number in table}
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名,组号\ng01,甲,1\n", encoding="utf-8")
+    teacher = tmp_path / "groups.csv"
+    teacher.write_text("组号,time_ratio\n1,1.04\n", encoding="utf-8")
+    done = run_cli("assign", "--roster", roster, "--groups", teacher, "-o", tmp_path / "c")
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    assert "time_ratio = 1.04" in done.stderr and "min_position_separation" in done.stderr
+
+
 def test_a_teachers_own_assignment_file(tmp_path):
     from crankbook.support import resources
     text = resources.read_text(templates.ASSIGNMENTS, "course-design.toml")

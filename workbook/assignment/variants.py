@@ -9,6 +9,7 @@ seed is therefore the class's secret: crankbook is public, and a student who kno
 it draws their own key.  A small seed is found by trying seeds until one draws the
 task the student was given, so the default is a random one (``secret_seed``).
 """
+import collections
 import hashlib
 import secrets
 
@@ -77,8 +78,9 @@ def _draw(assignment, base, rng, fixed=None):
     return values
 
 
-def acceptable(assignment, spec, values):
-    """True when the parameters make a mechanism the assignment can use."""
+def rejection(assignment, spec, values):
+    """Why the parameters make no mechanism the assignment can use (a phrase), or None
+    when they do."""
     # only what the checks below read, and what that needs
     checks = [k for k in assignment.constraints.get("checks", ()) if k in spec.quantity]
     wanted = [q.key for q in spec.quantities() if q.must_pass] + checks + \
@@ -87,23 +89,33 @@ def acceptable(assignment, spec, values):
         values = params.validate(spec, dict(values))
         out = evaluate.evaluate(spec, values, {}, evaluate.crank_angle_grid(spec, 30.0),
                                 keys=wanted)
-    except CrankbookError:
-        return False
-    if any(np.any(np.asarray(out[q.key], dtype=float) == 0)
-           for q in spec.quantities() if q.must_pass):
-        return False                     # e.g. a roller that undercuts the cam
-    if any(not np.all(np.asarray(out[k], dtype=float) == 1) for k in checks):
-        return False                     # a check of the workbook fails (r0 < r0min, …)
+    except CrankbookError as error:
+        return str(error)
+    for q in spec.quantities():
+        if q.must_pass and np.any(np.asarray(out[q.key], dtype=float) == 0):
+            return f"{q.key} fails"            # e.g. a roller that undercuts the cam
+    for k in checks:
+        if not np.all(np.asarray(out[k], dtype=float) == 1):
+            return f"{k} fails"                # a check of the workbook (r0 < r0min, …)
     bound = assignment.constraints.get("min_transmission_angle")
     if bound is not None and out.get("min_transmission_angle", 90.0) < bound:
-        return False
+        return (f"the smallest transmission angle {float(out['min_transmission_angle']):.1f}° "
+                f"is below {bound:g}°")
     separation = assignment.constraints.get("min_position_separation")
     if separation is not None and "raw_crank_angle" in out:
         angles = np.sort(np.asarray(out["raw_crank_angle"]) % 360)
         gaps = np.diff(np.concatenate([angles, [angles[0] + 360]]))
         if gaps.min() < separation:
-            return False
-    return True
+            # answers are placed by their crank angle: two positions this close could
+            # be taken for each other
+            return (f"two of the 15 positions lie {gaps.min():.2f}° apart (at least "
+                    f"{separation:g}°, min_position_separation)")
+    return None
+
+
+def acceptable(assignment, spec, values):
+    """True when the parameters make a mechanism the assignment can use."""
+    return rejection(assignment, spec, values) is None
 
 
 def fingerprint(values, keys):
@@ -118,19 +130,28 @@ def draw_class(assignment, spec, base, student_ids, seed, fixed=None):
     keys = sorted(assignment.variant)
     for sid in student_ids:
         rng = student_rng(seed, sid)
+        reasons = collections.Counter()
         for _ in range(MAX_ATTEMPTS):
             values = _draw(assignment, base, rng, (fixed or {}).get(sid))
             values.update({k: params.coerce(spec.parameter[k], v) for k, v in values.items()
                            if isinstance(v, str)})          # a law's word: its index
             mark = fingerprint(values, keys)
-            if mark not in used and acceptable(assignment, spec, values):
+            reason = "the same set as another student's" if mark in used else \
+                rejection(assignment, spec, values)
+            if reason is None:
                 used.add(mark)
                 out[sid] = values
                 break
+            reasons[reason] += 1
         else:
-            why = "; its group's parameters may make no valid mechanism" if fixed and sid in \
-                fixed else ""
+            group = fixed.get(sid) if fixed else None
+            alone = group and rejection(assignment, spec, {**base, **group})
+            if alone:             # the group's row decides it: no draw can help
+                raise CrankbookError(
+                    f"{sid!r}: the values of their group (" + ", ".join(
+                        f"{k} = {v:g}" for k, v in group.items()
+                        if isinstance(v, (int, float))) + f") make no usable mechanism: {alone}")
             raise CrankbookError(f"could not draw a valid, distinct parameter set for {sid!r} "
-                                 f"in {MAX_ATTEMPTS} attempts{why}; widen the template's "
-                                 f"ranges")
+                                 f"in {MAX_ATTEMPTS} attempts (mostly: "
+                                 f"{reasons.most_common(1)[0][0]}); widen the template's ranges")
     return out
