@@ -286,9 +286,19 @@ def test_a_chinese_class_gets_chinese_feedback_and_report(graded):
     assert {"各题", "总分分布", "学生"} <= set(book.sheetnames)
     assert book["各题"]._charts and book["总分分布"]._charts
     assert book["各题"]["A4"].value == "极位夹角 θ"
-    counts = [book["总分分布"].cell(row=r, column=3).value for r in range(4, 14)]
+    counts = [book["总分分布"].cell(row=r, column=4).value for r in range(4, 14)]
     assert all(isinstance(c, int) or float(c).is_integer() for c in counts)
     assert sum(counts) == 11                       # the graded students
+    # every column headed, the band's words apart from the right-aligned counts (a
+    # count against a band read "10–10 %"), and an axis of at most ten steps
+    sheet = book["总分分布"]
+    assert all(sheet.cell(row=3, column=c).value for c in range(1, 5))
+    assert [sheet.cell(row=r, column=1).value for r in (4, 13)] == ["0–10", "90–100"]
+    with zipfile.ZipFile(graded["results"] / "class-report.xlsx") as archive:
+        xml = "".join(archive.read(n).decode() for n in archive.namelist()
+                      if n.startswith("xl/charts/"))
+    axes = re.findall(r'<c:max val="([\d.]+)"/>.*?<c:majorUnit val="([\d.]+)"/>', xml, re.S)
+    assert len(axes) == 2 and all(float(top) / float(step) <= 10 for top, step in axes)
 
 
 @pytest.mark.parametrize("mode", ["score-only", "hints"])

@@ -377,8 +377,8 @@ def write_class_report(path, assignment, lang, grades):
         cells = [c for g in graded if item.key in g.items for c in g.items[item.key][1]]
         mean = sum(scores) / len(scores) if scores else 0.0
         success = sum(c.fraction == 1.0 for c in cells) / len(cells) if cells else 0.0
-        ws.write(row, 0, item.label(lang))
-        ws.write_number(row, 1, item.points)
+        ws.write_string(row, 0, item.label(lang), styles.top)
+        ws.write_number(row, 1, item.points, styles.number("-", "General"))
         ws.write_number(row, 2, mean, styles.number("-", "0.00"))
         ws.write_formula(row, 3, f"=IF(B{row + 1}=0,0,C{row + 1}/B{row + 1})",
                          styles.number("-", "0.0%"), mean / item.points if item.points else 0)
@@ -400,25 +400,29 @@ def write_class_report(path, assignment, lang, grades):
 
     dist = book.add_worksheet(w["report_totals"])
     dist.write(0, 0, w["chart_totals"], styles.title)
-    for col, word in enumerate(["col_from", "col_to", "col_students"]):
+    # the band's words first: a count right-aligned against them read "10–10 %"
+    for col, word in enumerate(["col_band", "col_from", "col_to", "col_students"]):
         dist.write(2, col, w[word], styles.header)
+    dist.set_column(0, 3, 10)
     bins = [0] * 10
     for g in graded:
         share = g.score / assignment.max_score if assignment.max_score else 0
         bins[min(int(share * 10), 9)] += 1
+    whole = styles.number("-", "0")
     for i, count in enumerate(bins):
-        dist.write_number(3 + i, 0, i * 10)
-        dist.write_number(3 + i, 1, (i + 1) * 10)
-        dist.write_number(3 + i, 2, count)
-        dist.write_string(3 + i, 3, f"{i * 10}–{(i + 1) * 10} %")
+        dist.write_string(3 + i, 0, f"{i * 10}–{(i + 1) * 10}", styles.top)   # % in the axis
+        dist.write_number(3 + i, 1, i * 10, whole)
+        dist.write_number(3 + i, 2, (i + 1) * 10, whole)
+        dist.write_number(3 + i, 3, count, whole)
     hist = book.add_chart({"type": "column"})
-    hist.add_series({"name": w["col_students"], "categories": [w["report_totals"], 3, 3, 12, 3],
-                     "values": [w["report_totals"], 3, 2, 12, 2], "gap": 20,
+    hist.add_series({"name": w["col_students"], "categories": [w["report_totals"], 3, 0, 12, 0],
+                     "values": [w["report_totals"], 3, 3, 12, 3], "gap": 20,
                      "data_labels": {"value": True}})
     hist.set_title({"name": w["chart_totals"]})
     hist.set_x_axis({"name": w["axis_score"]})
-    hist.set_y_axis({"name": w["axis_students"], "min": 0, "major_unit": 1,
-                     "max": max(bins) + 1, "num_format": "0"})
+    step = next(s for s in (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000) if max(bins) < 10 * s)
+    hist.set_y_axis({"name": w["axis_students"], "min": 0, "major_unit": step,
+                     "max": step * (max(bins) // step + 1), "num_format": "0"})
     hist.set_legend({"none": True})
     dist.insert_chart(2, 5, hist)
 
@@ -474,9 +478,9 @@ def _class_statistics(book, w, assignment, grades, styles):
     ws.set_column(1, 6, 12)
     for row, (name, members) in enumerate(sorted(classes.items()), start=3):
         totals = sorted(g.score for g in members if g.status == "graded")
-        ws.write_string(row, 0, name or w["all_students"])
-        ws.write_number(row, 1, len(members))
-        ws.write_number(row, 2, len(totals))
+        ws.write_string(row, 0, name or w["all_students"], styles.top)
+        ws.write_number(row, 1, len(members), styles.number("-", "0"))
+        ws.write_number(row, 2, len(totals), styles.number("-", "0"))
         if totals:
             middle = len(totals) // 2
             median = totals[middle] if len(totals) % 2 else (totals[middle - 1] + totals[middle]) / 2
