@@ -9,6 +9,7 @@ import json
 import math
 import re
 import shutil
+import subprocess
 import zipfile
 
 import numpy as np
@@ -299,6 +300,20 @@ def test_a_chinese_class_gets_chinese_feedback_and_report(graded):
                       if n.startswith("xl/charts/"))
     axes = re.findall(r'<c:max val="([\d.]+)"/>.*?<c:majorUnit val="([\d.]+)"/>', xml, re.S)
     assert len(axes) == 2 and all(float(top) / float(step) <= 10 for top, step in axes)
+
+
+def test_the_gradebook_prints_readable(graded, tmp_path):
+    """Every column at its longest header or note, fitted one page wide, printed the
+    class in text a few points high; now no word of the printed gradebook is smaller
+    than 10-point text at 62 % (its box about 7 points tall), whatever the items."""
+    pdf = recalc.convert([graded["results"] / "gradebook.xlsx"], tmp_path, target="pdf")[0]
+    text = subprocess.run(["pdftotext", "-bbox", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    heights = [float(b) - float(a) for a, b in
+               re.findall(r'<word xMin="[\d.]+" yMin="([\d.]+)" xMax="[\d.]+" '
+                          r'yMax="([\d.]+)">', text)]
+    assert heights and min(heights) >= 7.0, min(heights)
+    assert "s13" in text and "s01" in text                  # every student is on paper
 
 
 @pytest.mark.parametrize("mode", ["score-only", "hints"])

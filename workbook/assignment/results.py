@@ -34,7 +34,7 @@ from crankbook.assignment import rounds
 from crankbook.support.csv_safety import csv_text
 from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.layout import unit_text
-from crankbook.writer.print_setup import landscape_page, row_points
+from crankbook.writer.print_setup import landscape_page, row_points, wide_table_page
 from crankbook.writer.styles import Styles
 
 FEEDBACK_MODES = ("full", "hints", "score-only")
@@ -165,21 +165,32 @@ def write_gradebook_xlsx(path, table, w):
     header = table[0]
     text_columns = {i for i, name in enumerate(header)
                     if name not in ("score", "max_score") and "(a_" not in name}
+    # a number under a wrapped header; words as wide as they are, the notes wrapped:
+    # a column as wide as its longest header or note printed the class microscopic
+    widths = [_width((row[col] for row in table[1:] if col < len(row)), 8,
+                     GRADEBOOK_NOTES_WIDTH if name in ("notes", "overrides") else 18)
+              if col in text_columns else 9 for col, name in enumerate(header)]
     for col, name in enumerate(header):
         ws.write_string(0, col, name, styles.header)
-        ws.set_column(col, col, _width(row[col] for row in table if col < len(row)))
+        ws.set_column(col, col, widths[col], styles.top)
+    ws.set_row(0, row_points(zip(header, widths), bold=True))
     for r, row in enumerate(table[1:], start=1):
         for col, value in enumerate(row):
             if value == "" or value is None:
                 continue
             if col in text_columns or not isinstance(value, (int, float)):
-                ws.write_string(r, col, str(value))
+                ws.write_string(r, col, str(value), styles.text)
             else:
-                ws.write_number(r, col, float(value))
+                ws.write_number(r, col, float(value), styles.top)
+        ws.set_row(r, row_points([(str(v), widths[c]) for c, v in enumerate(row)
+                                  if c in text_columns and v not in ("", None)] or [("", 9)]))
     ws.freeze_panes(1, 2)
     ws.autofilter(0, 0, len(table) - 1, len(header) - 1)
-    landscape_page(ws)
+    wide_table_page(ws, widths, who_columns=2)
     book.close()
+
+
+GRADEBOOK_NOTES_WIDTH = 60
 
 
 def _item_summary(g, assignment, lang, mode):

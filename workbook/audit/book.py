@@ -17,7 +17,8 @@ from crankbook.support.atomic import atomic_path
 from crankbook.audit.claims import (FORMULA_AGREEMENT, INPUT, NOISE_FLOOR, STATUS_OF_KIND,
                                     VERDICTS, coverage, shown)
 from crankbook.writer.build import FIXED_TIME
-from crankbook.writer.print_setup import A4, print_scale, row_height, row_points
+from crankbook.writer.print_setup import (A4, READABLE_SCALE, print_scale, row_height,
+                                          row_points)
 from crankbook.writer.styles import Styles
 
 # (label, width in characters, wrapped).  The columns an auditor signs come first and
@@ -332,7 +333,6 @@ def _page_setup(ws, last):
 
 
 PAGE_POINTS = 595 - 2 * 0.5 * 72       # A4 landscape less the top and bottom margins
-READABLE_SCALE = 0.62                 # 10-point text printed at 6.2 points
 
 
 def _no_page_of_a_few_rows(ws, last, scale):

@@ -12,6 +12,7 @@ PRINTABLE_POINTS = (842 - 2 * 0.7 * 72, 595 - 2 * 0.75 * 72)   # A4 landscape le
 # a key (Consolas 10 pt, or LibreOffice's fallback DejaVu Sans Mono where Consolas is
 # missing: 8 px a glyph) in a column whose unit is the default font's digit (7 px)
 KEY_COLUMNS_PER_CHARACTER = 1.15
+READABLE_SCALE = 0.62             # 10-point text printed at 6.2 points
 NO_PRINT = (0, 16383, 0, 16383)   # a print area on an always-empty cell: the sheet is
                                   # skipped when the whole workbook prints
 
@@ -111,6 +112,21 @@ def landscape_report(ws, layout, sheet_spec, rows, last_col, chart_col):
     ws.fit_to_pages(1, 0)
     ws.repeat_rows(FIRST_ROW - 3, FIRST_ROW - 1)
     ws.repeat_columns(0, 0)
+
+
+def wide_table_page(ws, widths, who_columns):
+    """A4 landscape for a table of many columns (a gradebook), its header row on every
+    page: one page wide where that keeps its text at READABLE_SCALE or larger, else at
+    that scale over pages across, each starting with the ``who_columns`` first columns
+    (whose row it is)."""
+    ws.set_paper(A4)
+    ws.set_landscape()
+    ws.repeat_rows(0)
+    if print_scale(widths) >= READABLE_SCALE:
+        ws.fit_to_pages(1, 0)
+    else:
+        ws.set_print_scale(round(100 * READABLE_SCALE))
+        ws.repeat_columns(0, who_columns - 1)
 
 
 def print_scale(widths, printable=PRINTABLE_POINTS[0]):
