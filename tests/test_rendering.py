@@ -501,3 +501,16 @@ def test_a_mode_the_grid_does_not_reach_says_so_in_the_legend(tmp_path, soffice)
         sheet, cell = ref.split("!")
         live[ref] = after[sheet.strip("'")][cell.replace("$", "")].value
     assert modes(live.values()) == {1: (3, 0), 2: (3, 0), 3: (3, 3)}
+
+
+def test_a_narrow_results_table_prints_portrait(tmp_path):
+    """Two columns of 49 rows printed as a strip down a landscape page at 53 %: a
+    table that a portrait page holds whole prints portrait, larger; a wide one stays
+    landscape."""
+    def page(preset):
+        path = compute(preset).to_excel(tmp_path / f"{preset}.xlsx", lang="en")
+        setup = openpyxl.load_workbook(path)["Results table"].page_setup
+        return setup.orientation, setup.scale
+    orientation, scale = page("offset-optimization")
+    assert orientation == "portrait" and scale >= 80
+    assert page("thesis")[0] == "landscape"

@@ -20,6 +20,8 @@ MAX_ROWS = 49              # printed rows of one block: one page tall
 COLUMN_WIDTH = 12          # characters
 PAGE_WIDTH_PX = 1040       # A4 landscape less the margins, at 96 dpi
 PAGE_HEIGHT_PT = 595 - 72  # A4 landscape less the margins
+PORTRAIT_WIDTH_PX = 716    # A4 portrait less the margins, at 96 dpi
+PORTRAIT_HEIGHT_PT = 842 - 72
 ROW_POINTS = 15            # a row of numbers
 NOTE = {"zh": "各计算表的列（公式引用各表），每 {step} 一行；各表的完整数据与图表见各表，图表另见“图表”表。",
         "en": "The columns of the quantity sheets (formulas on them), one row every {step}; "
@@ -116,31 +118,40 @@ def write_report_sheet(book, layout, results, styles):
         row = header + 3 + len(rows) + 1
     ws.set_column(0, 0, 10)
     ws.set_column(1, widest, COLUMN_WIDTH)
-    scale = _scale(tallest)
-    capacity = max(1, int((PAGE_WIDTH_PX * 100 / scale - 75) / (COLUMN_WIDTH * 7 + 5)))
+    width, height = PAGE_WIDTH_PX, PAGE_HEIGHT_PT
+    scale = _scale(tallest, height)
+    capacity = _capacity(width, scale)
+    portrait = widest <= _capacity(PORTRAIT_WIDTH_PX, _scale(tallest, PORTRAIT_HEIGHT_PT))
+    if portrait:          # a narrow table: a portrait page holds its columns larger
+        width, height = PORTRAIT_WIDTH_PX, PORTRAIT_HEIGHT_PT
+        scale = _scale(tallest, height)
+        capacity = _capacity(width, scale)
     per_page = math.ceil(widest / math.ceil(widest / capacity))    # pages alike
     ws.set_v_pagebreaks(list(range(1 + per_page, widest + 1, per_page)))
-    ws.set_h_pagebreaks(_blocks_kept_whole(blocks, scale))
+    ws.set_h_pagebreaks(_blocks_kept_whole(blocks, scale, height))
     # the notes wrap across the first page's columns (a page wide even when the table
     # is narrower), so neither they nor the title are cut at the print area's edge
     span = per_page if widest > capacity else capacity
     for note_row, text in notes:
-        wrapped_title(ws, note_row, text, [10] + [COLUMN_WIDTH] * span, styles.subtitle)
+        wrapped_title(ws, note_row, text, [10] + [COLUMN_WIDTH] * span, styles.subtitle_wrap)
     ws.repeat_columns(0, 0)
     ws.freeze_panes(0, 1)
     ws.set_paper(A4)
-    ws.set_landscape()
+    if portrait:
+        ws.set_portrait()
+    else:
+        ws.set_landscape()
     ws.set_margins(left=0.4, right=0.4, top=0.5, bottom=0.5)
     ws.set_print_scale(scale)
     ws.print_area(0, 0, row, max(widest, span))
     return ws
 
 
-def _blocks_kept_whole(blocks, scale):
+def _blocks_kept_whole(blocks, scale, height=PAGE_HEIGHT_PT):
     """Rows where a page must begin so that no block of ``blocks`` (first row, height
-    in points) is split, every block fitting on a page at ``scale`` (%): a table's last
-    rows no longer print alone on a page of their own."""
-    room, used, breaks = PAGE_HEIGHT_PT * 100 / scale, ROW_POINTS, []     # the title
+    in points) is split, every block fitting on a page ``height`` points tall at
+    ``scale`` (%): a table's last rows no longer print alone on a page of their own."""
+    room, used, breaks = height * 100 / scale, ROW_POINTS, []     # the title
     for first, height in blocks:
         if used + height > room and used > ROW_POINTS:
             breaks.append(first)
@@ -149,6 +160,12 @@ def _blocks_kept_whole(blocks, scale):
     return breaks
 
 
-def _scale(points):
-    """A print scale that fits a block ``points`` tall on one landscape page."""
-    return max(40, min(100, int(100 * PAGE_HEIGHT_PT / points)))
+def _scale(points, height=PAGE_HEIGHT_PT):
+    """A print scale that fits a block ``points`` tall on one page ``height`` tall."""
+    return max(40, min(100, int(100 * height / points)))
+
+
+def _capacity(width, scale):
+    """Columns of the table (after the angle) a page ``width`` pixels wide holds at
+    ``scale`` (%)."""
+    return max(1, int((width * 100 / scale - 75) / (COLUMN_WIDTH * 7 + 5)))
