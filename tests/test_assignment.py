@@ -998,6 +998,8 @@ def test_lms_exports_have_the_columns_their_importers_read(pack, tmp_path):
     scores = {r[2]: r[5] for r in table[2:]}
     assert float(scores["s01"]) == 20.0 and scores["s03"] == ""      # missing: no zero
     assert {r[4] for r in table[2:]} == {"机械1班"}
+    rows, _ = read_gradebook(tmp_path / "canvas")      # the weight as typed, no float noise
+    assert rows["s01"]["max_score"] in ("20", "20.0"), rows["s01"]["max_score"]
     # 学习通: 学号 as text
     done = run_cli("grade", pack, subs, "-o", tmp_path / "xxt", "--lms", "xuexitong")
     assert done.returncode == 0, done.stderr

@@ -100,7 +100,8 @@ class Assignment:
 
     @property
     def max_score(self):
-        return sum(i.points for i in self.items)
+        # items scaled to a course weight (--out-of 20) sum to 19.999999999999986
+        return round(sum(i.points for i in self.items), 9)
 
     def statement(self, lang):
         return self.statement_zh if lang == "zh" else self.statement_en
