@@ -113,11 +113,6 @@ def rejection(assignment, spec, values):
     return None
 
 
-def acceptable(assignment, spec, values):
-    """True when the parameters make a mechanism the assignment can use."""
-    return rejection(assignment, spec, values) is None
-
-
 def fingerprint(values, keys):
     text = ";".join(f"{k}={values[k]!r}" for k in keys)
     return hashlib.sha256(text.encode()).hexdigest()[:16]

@@ -118,14 +118,12 @@ def write_report_sheet(book, layout, results, styles):
         row = header + 3 + len(rows) + 1
     ws.set_column(0, 0, 10)
     ws.set_column(1, widest, COLUMN_WIDTH)
-    width, height = PAGE_WIDTH_PX, PAGE_HEIGHT_PT
+    # a narrow table: a portrait page holds its columns larger
+    portrait = widest <= _capacity(PORTRAIT_WIDTH_PX, _scale(tallest, PORTRAIT_HEIGHT_PT))
+    width, height = (PORTRAIT_WIDTH_PX, PORTRAIT_HEIGHT_PT) if portrait else \
+        (PAGE_WIDTH_PX, PAGE_HEIGHT_PT)
     scale = _scale(tallest, height)
     capacity = _capacity(width, scale)
-    portrait = widest <= _capacity(PORTRAIT_WIDTH_PX, _scale(tallest, PORTRAIT_HEIGHT_PT))
-    if portrait:          # a narrow table: a portrait page holds its columns larger
-        width, height = PORTRAIT_WIDTH_PX, PORTRAIT_HEIGHT_PT
-        scale = _scale(tallest, height)
-        capacity = _capacity(width, scale)
     per_page = math.ceil(widest / math.ceil(widest / capacity))    # pages alike
     ws.set_v_pagebreaks(list(range(1 + per_page, widest + 1, per_page)))
     ws.set_h_pagebreaks(_blocks_kept_whole(blocks, scale, height))
