@@ -1,5 +1,6 @@
 """What the README and docs/ state is what crankbook does: the numbers they print,
 the names they list and the commands they show."""
+import math
 from pathlib import Path
 
 import crankbook
@@ -12,11 +13,18 @@ def test_the_series_against_exact_table_is_what_the_presets_give():
     series = crankbook.compute("thesis").scalars
     exact = crankbook.compute("thesis", exact_kinematics=1).scalars
     rows = {
-        "peak acceleration (TDC)": ("piston_acceleration_max", "m/s²", "{:.0f}"),
-        "acceleration at BDC": ("piston_acceleration_min", "m/s²", "{:.0f}"),
-        "peak side force": ("side_force_max", "N", "{:.0f}"),
-        "mean torque": ("mean_torque", "N·m", "{:.2f}"),
+        "peak acceleration, at TDC (`q_piston_acceleration_max`)":
+            ("piston_acceleration_max", "m/s²", "{:.0f}"),
+        "largest deceleration (`q_piston_acceleration_min`: near α = 139° and 221°, not "
+        "at BDC, since λ > 1/4)": ("piston_acceleration_min", "m/s²", "{:.0f}"),
+        "peak side force (`q_side_force_max`)": ("side_force_max", "N", "{:.0f}"),
+        "mean torque (`q_mean_torque`)": ("mean_torque", "N·m", "{:.2f}"),
     }
+    # the row says where: for λ > 1/4 the series' deceleration peaks at cos α = −1/(4λ)
+    angle = series["piston_acceleration_min_angle"] % 360
+    lam = series["crank_rod_ratio"]
+    assert round(min(angle, 360 - angle)) == round(math.degrees(math.acos(-1 / (4 * lam)))) \
+        == 139, angle
     for words, (key, unit, shown) in rows.items():
         a, b = series[key], exact[key]
         cells = f"| {words} | {shown.format(a).replace('-', '−')} {unit} | " \
