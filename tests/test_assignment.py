@@ -945,6 +945,26 @@ def test_annotated_returns_colour_the_students_own_cells(pack, tmp_path, soffice
     assert again[sheet][ref.replace("$", "")].comment is not None
 
 
+def test_a_returned_copy_keeps_no_trace_of_whom_it_was_copied_from(pack, tmp_path):
+    """A copy carries its first owner in the document properties Excel shows under
+    File > Info (title, subject, keywords, a custom "owner"); the copier's returned
+    file names the copier alone, and is still a crankbook student workbook."""
+    from openpyxl.packaging.custom import StringProperty
+    subs = tmp_path / "subs"
+    fill(pack / "students" / "s05.xlsx", subs / "s06.xlsx", key_answers(pack, "s05"))
+    book = openpyxl.load_workbook(subs / "s06.xlsx")
+    for field in ("title", "subject", "description", "keywords", "category", "creator"):
+        setattr(book.properties, field, f"{NAMES['s05']} s05")
+    book.custom_doc_props.append(StringProperty(name="owner", value=f"{NAMES['s05']} s05"))
+    book.save(subs / "s06.xlsx")
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "res", "--return", tmp_path / "back")
+    assert done.returncode == 0, done.stderr
+    with zipfile.ZipFile(tmp_path / "back" / "s06.xlsx") as archive:
+        text = b"".join(archive.read(n) for n in archive.namelist()).decode("utf-8", "replace")
+    assert NAMES["s05"] not in text and not re.search(r"(?<![A-Za-z0-9])s05(?![A-Za-z0-9])", text)
+    assert run_cli("check", tmp_path / "back" / "s06.xlsx").returncode == 0
+
+
 def _round_for_exports(pack, tmp_path):
     subs = tmp_path / "subs"
     for sid in ("s01", "s04"):

@@ -15,6 +15,8 @@ from pathlib import Path
 import openpyxl
 from openpyxl.writer.excel import ExcelWriter
 from openpyxl.comments import Comment
+from openpyxl.packaging.core import DocumentProperties
+from openpyxl.packaging.custom import CustomPropertyList
 from openpyxl.styles import Alignment, Border, Font, PatternFill, Side
 
 from crankbook.assignment.results import (_item_summary, _points, reason_text, say, shown,
@@ -88,7 +90,7 @@ def annotate(sub, g, assignment, lang, mode, target):
                 comment = Comment(text, "crankbook")
                 comment.width, comment.height = 260, 90
                 cell.comment = comment
-    _own_identity(book, g, sheets)
+    _own_identity(book, g, sheets, assignment.name(lang))
     _score_box(book, g, assignment, lang, w)
     _save_reproducibly(book, target)
 
@@ -108,14 +110,21 @@ def _save_reproducibly(book, target):
             archive.writestr(fixed, source.read(entry))
 
 
-def _own_identity(book, g, sheets):
+def _own_identity(book, g, sheets, title):
     """The returned file names its owner only: a file handed in with another student's
-    id, name or author (a copy) goes back with the owner's own."""
+    id, name, author or document properties (a copy: title, subject, keywords, a
+    custom "owner") goes back with the owner's own, and with crankbook's properties
+    alone (``check`` and ``audit`` still know the file by them)."""
     for name, value in (("s_student_id", g.student_id), ("s_student_name", g.name)):
         if name in book.defined_names:
             found = parse_reference(name, book.defined_names[name].attr_text, sheets)
             book[found.sheet].cell(found.min_row, found.min_col).value = value
-    book.properties.creator = book.properties.lastModifiedBy = "crankbook"
+    book.properties = DocumentProperties(title=title, creator="crankbook",
+                                         lastModifiedBy="crankbook", created=FIXED_TIME)
+    ours = [p for p in book.custom_doc_props.props if p.name.startswith("crankbook_")]
+    book.custom_doc_props = CustomPropertyList()
+    for prop in ours:
+        book.custom_doc_props.append(prop)
 
 
 def _score_box(book, g, assignment, lang, w):
