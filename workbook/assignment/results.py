@@ -154,6 +154,9 @@ def gradebook_rows(assignment, lang, grades, unmatched, missing_as_zero):
     return rows
 
 
+GRADEBOOK_NOTES_WIDTH = 60         # characters: the notes and overrides columns, wrapped
+
+
 def write_gradebook_xlsx(path, table, w):
     """The gradebook as Excel opens it: ids and names as text (leading zeros and 12-digit
     学号 intact), points as numbers."""
@@ -189,8 +192,6 @@ def write_gradebook_xlsx(path, table, w):
     wide_table_page(ws, widths, who_columns=2)
     book.close()
 
-
-GRADEBOOK_NOTES_WIDTH = 60
 
 
 def _item_summary(g, assignment, lang, mode):

@@ -82,17 +82,17 @@ class Frame:
     def __init__(self, xs, ys, unit=None):
         x = np.concatenate([np.ravel(v) for v in xs] + [np.zeros(1)])
         y = np.concatenate([np.ravel(v) for v in ys] + [np.zeros(1)])
-        self.values = x[np.isfinite(x)], y[np.isfinite(y)]
-        self.span = max(v.max() - v.min() for v in self.values)
+        values = x[np.isfinite(x)], y[np.isfinite(y)]
+        self.span = max(v.max() - v.min() for v in values)
         step = nice_step(self.span)
         if unit is not None:
             step = unit * max(1, -math.floor(-step / unit))
         self.step = step
         self.margin = frame_margin(self.span, step)
         self.low = [min(math.floor((v.min() - self.margin) / step) * step, -step)
-                    for v in self.values]
+                    for v in values]
         self.high = [max(-math.floor(-(v.max() + self.margin) / step) * step, step)
-                     for v in self.values]
+                     for v in values]
         self.tick = max(hi - lo for lo, hi in zip(self.low, self.high))
         self.start = [lo - math.floor((self.tick - (hi - lo)) / step / 2) * step + self.margin
                       for lo, hi in zip(self.low, self.high)]
