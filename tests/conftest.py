@@ -30,6 +30,26 @@ def _engine(find, what, package):
     return path
 
 
+def dev_programs():
+    """{program: Debian package} of every external program ./dev test installs (its
+    PROGRAMS list: the one place that says which package brings which program)."""
+    text = (ROOT / "dev").read_text(encoding="utf-8")
+    listed = re.search(r'^PROGRAMS="([^"]*)"', text, re.M).group(1)
+    return dict(pair.split(":", 1) for pair in listed.split())
+
+
+def run_program(program, *args):
+    """Run an external program the tests need (pdftotext, …) and return its standard
+    output; fail in one line naming the package when the machine lacks it."""
+    import shutil
+    if shutil.which(program) is None:
+        package = dev_programs().get(program, "the package that provides it")
+        pytest.fail(f"{program} is not installed: run ./dev test, or apt-get install {package}",
+                    pytrace=False)
+    return subprocess.run([program, *map(str, args)], capture_output=True, text=True,
+                          check=True).stdout
+
+
 ENGINE_FIXTURES = {"soffice": "libreoffice", "ssconvert": "gnumeric",
                    "checked": ("libreoffice", "gnumeric")}
 

@@ -9,7 +9,6 @@ import json
 import math
 import re
 import shutil
-import subprocess
 import zipfile
 
 import numpy as np
@@ -20,7 +19,8 @@ from crankbook.reading import recalc
 from crankbook.assignment import template as templates
 from crankbook.assignment.scoring import score_cell
 from crankbook.calc import mechanism
-from tests.conftest import cells_under_charts, named, run_cli, texts_cut_by_a_neighbour
+from tests.conftest import (cells_under_charts, named, run_cli, run_program,
+                            texts_cut_by_a_neighbour)
 
 ROSTER = [f"s{n:02d}" for n in range(1, 14)]
 NAMES = {sid: f"学生{n}号" for n, sid in enumerate(ROSTER, start=1)}
@@ -307,8 +307,7 @@ def test_the_gradebook_prints_readable(graded, tmp_path):
     class in text a few points high; now no word of the printed gradebook is smaller
     than 10-point text at 62 % (its box about 7 points tall), whatever the items."""
     pdf = recalc.convert([graded["results"] / "gradebook.xlsx"], tmp_path, target="pdf")[0]
-    text = subprocess.run(["pdftotext", "-bbox", str(pdf), "-"], capture_output=True,
-                          text=True, check=True).stdout
+    text = run_program("pdftotext", "-bbox", str(pdf), "-")
     heights = [float(b) - float(a) for a, b in
                re.findall(r'<word xMin="[\d.]+" yMin="([\d.]+)" xMax="[\d.]+" '
                           r'yMax="([\d.]+)">', text)]

@@ -69,3 +69,41 @@ def test_names_are_names_never_paths():
     assert resources.is_safe_name("course-design")
     for bad in ("../presets/thesis", "/etc/passwd", "thesis.toml", "a b", "", "x" * 80):
         assert not resources.is_safe_name(bad)
+
+
+def _programs_run(path):
+    """Names of the external programs a Python file runs: the first word of a literal
+    command given to subprocess (or to the tests' run_program)."""
+    import ast
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if not isinstance(node, ast.Call) or not node.args:
+            continue
+        name = getattr(node.func, "attr", getattr(node.func, "id", ""))
+        first = node.args[0]
+        if name in ("run", "Popen", "check_output", "call", "check_call") and \
+                isinstance(first, ast.List) and first.elts and \
+                isinstance(first.elts[0], ast.Constant) and isinstance(first.elts[0].value, str):
+            found.add(first.elts[0].value)
+        elif name == "run_program" and isinstance(first, ast.Constant):
+            found.add(first.value)
+    return found
+
+
+def test_dev_installs_every_program_the_code_and_tests_run():
+    """A fresh machine has none of them: ./dev test installs each program the package
+    or the tests run (its PROGRAMS list), so a test never meets a missing one (the
+    rendering tests once ran pdftotext, which only the machine they were written on
+    had)."""
+    from crankbook.reading import recalc
+    from tests.conftest import dev_programs
+    ALWAYS_THERE = {"sleep"}                          # coreutils: every Debian machine
+    run = {Path(recalc.SOFFICE[0]).name, Path(recalc.SSCONVERT[0]).name}
+    for folder in ("workbook", "calc", "tests", "bench"):
+        for path in (ROOT / folder).rglob("*.py"):
+            run |= _programs_run(path)
+    assert "pdftotext" in run and "soffice" in run          # the scan sees what it should
+    installed = dev_programs()
+    assert not run - ALWAYS_THERE - set(installed), run - ALWAYS_THERE - set(installed)
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    assert "./dev test" in ci                             # CI installs through ./dev
