@@ -5,7 +5,6 @@ page from the tick labels), their live frame following an edit."""
 import html
 import re
 import shutil
-import subprocess
 import zipfile
 
 import numpy as np
@@ -18,7 +17,7 @@ from crankbook.reading import recalc
 from crankbook.spec.loader import load as load_spec
 from crankbook.support.toml_files import names_in
 from crankbook.writer.charts import FRAME_LABEL, Frame
-from tests.conftest import ROOT, column_width, named, run_cli, unwrapped_texts
+from tests.conftest import ROOT, column_width, named, run_cli, run_program, unwrapped_texts
 
 pytestmark = pytest.mark.libreoffice
 PRESETS = names_in("presets")
@@ -45,8 +44,7 @@ def rendered(tmp_path_factory, soffice):
 
 
 def _pages(pdf):
-    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
-                          text=True, check=True).stdout
+    text = run_program("pdftotext", "-layout", str(pdf), "-")
     return text.split("\f")[:-1]
 
 
@@ -89,8 +87,7 @@ def test_every_key_prints_whole(rendered):
 
 def _placed_words(pdf):
     """{page: [(x0, y0, x1, y1, word)]} of a PDF, as pdftotext places them."""
-    text = subprocess.run(["pdftotext", "-bbox", str(pdf), "-"], capture_output=True,
-                          text=True, check=True).stdout
+    text = run_program("pdftotext", "-bbox", str(pdf), "-")
     pages, page = {}, 0
     for line in text.splitlines():
         if line.lstrip().startswith("<page"):
@@ -299,8 +296,7 @@ def _value(text):
 
 
 def _words(pdf, page):
-    out = subprocess.run(["pdftotext", "-f", str(page), "-l", str(page), "-bbox", str(pdf),
-                          "-"], capture_output=True, text=True, check=True).stdout
+    out = run_program("pdftotext", "-f", str(page), "-l", str(page), "-bbox", str(pdf), "-")
     return [(float(m.group(1)), float(m.group(2)), float(m.group(3)), float(m.group(4)),
              m.group(5)) for m in re.finditer(
         r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="([\d.]+)">([^<]*)</word>',
@@ -514,3 +510,51 @@ def test_a_narrow_results_table_prints_portrait(tmp_path):
     orientation, scale = page("offset-optimization")
     assert orientation == "portrait" and scale >= 80
     assert page("thesis")[0] == "landscape"
+
+
+# ------------------------------------------------------- an openpyxl save
+def _plot_visible_only(path):
+    """{chart part: plotVisOnly as read by Excel and LibreOffice (a missing element
+    reads as 1)} of a workbook, whatever namespace prefix the writer used."""
+    out = {}
+    for name, xml in _charts(path):
+        found = re.search(r'<(?:c:)?plotVisOnly val="(\w+)"', xml)
+        out[name] = found.group(1) in ("1", "true") if found else True
+    return out
+
+
+def test_an_openpyxl_save_keeps_every_row_of_every_chart(tmp_path, soffice):
+    """The first thing a Python user does is load the workbook with openpyxl, change
+    p_speed and save.  openpyxl reads a missing <c:plotVisOnly> as 1: the charts then
+    skipped the rows folded for printing and drew every curve at the 15° print step
+    (and the polars as polygons).  crankbook writes the element explicitly, openpyxl
+    keeps it, and LibreOffice — which writes back what it read — plots every row.
+    A file saved without values reads with one warning, and the recalculated status
+    says in words what the edit did (grams typed for kg)."""
+    import warnings
+    import crankbook
+    from crankbook.errors import CrankbookWarning
+    path = tmp_path / "thesis.xlsx"
+    compute("thesis", step=2).to_excel(path, lang="en")
+    book = openpyxl.load_workbook(path)
+    for name, value in (("p_speed", 3000), ("p_piston_mass", 316)):
+        sheet, cell = next(iter(book.defined_names[name].destinations))
+        book[sheet][cell.replace("$", "")] = value
+    folded = [ws.title for ws in book.worksheets
+              if any(d.hidden for d in ws.row_dimensions.values())]
+    assert folded                                  # the rows the charts must still plot
+    book.save(path)
+    saved = _plot_visible_only(path)
+    assert saved and not any(saved.values()), [n for n, v in saved.items() if v]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        crankbook.read(path)
+    said = [str(w.message) for w in caught if issubclass(w.category, CrankbookWarning)]
+    assert len(said) == 1 and "no calculated values" in said[0], said
+    after = recalc.convert([path], tmp_path / "lo")[0]
+    assert not any(_plot_visible_only(after).values())
+    values = named(after)
+    assert values["p_speed"] == 3000
+    assert values["q_angular_velocity"] == pytest.approx(3000 * np.pi / 30)
+    status = openpyxl.load_workbook(after, data_only=True)["Parameters"]["B3"].value
+    assert "grams typed for kg" in status, status

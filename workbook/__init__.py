@@ -12,7 +12,7 @@ The API (see the README's "Python API" section)::
 """
 __version__ = "0.2.0"
 
-from crankbook.errors import CrankbookError  # noqa: E402
+from crankbook.errors import CrankbookError, CrankbookWarning  # noqa: E402
 from crankbook.api import Results, compute, read, verify  # noqa: E402
 
-__all__ = ["__version__", "CrankbookError", "Results", "compute", "read", "verify"]
+__all__ = ["__version__", "CrankbookError", "CrankbookWarning", "Results", "compute", "read", "verify"]

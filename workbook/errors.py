@@ -8,6 +8,18 @@ class CrankbookError(Exception):
     """Base of every error a user can cause by what they ask for."""
 
 
+class CrankbookWarning(UserWarning):
+    """A value that is legal but implausible (grams typed for kg, bar for MPa), or a
+    file read as it is though it may mislead (saved without calculated values): one
+    line, the work goes on.  The command line prints it as ``crankbook: warning: …``."""
+
+
+class CoarseStepWarning(CrankbookWarning):
+    """A main grid coarser than the peaks need (``step=``/``--step`` above 5°):
+    Results.coarse_step_effect measures what it does; the tests, which build coarse
+    grids on purpose, silence it."""
+
+
 class UnknownPresetError(CrankbookError):
     """A preset or workbook template name that does not exist."""
 
@@ -33,7 +45,22 @@ class PressureFileError(CrankbookError):
 
 
 class BuildOptionError(CrankbookError):
-    """A build option (grid step, output path, language) that cannot be used."""
+    """A build option (grid step, output path, language) that cannot be used.
+
+    ``keyword``: the API keyword the message names (``step``, ``cam_step``), which the
+    command line shows as its flag (``--step``, ``--cam-step``)."""
+
+    def __init__(self, message, keyword=None):
+        super().__init__(message)
+        self.keyword = keyword
+
+    def for_command_line(self):
+        """The message with the keyword (``step=10``) as the flag (``--step 10``)."""
+        text = str(self)
+        if self.keyword and text.startswith(f"{self.keyword}="):
+            flag = "--" + self.keyword.replace("_", "-")
+            text = f"{flag} {text[len(self.keyword) + 1:]}"
+        return text
 
 
 class OutputPathError(BuildOptionError):

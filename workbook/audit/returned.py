@@ -15,7 +15,8 @@ from openpyxl.utils.cell import get_column_letter
 from crankbook.reading import recalc
 from crankbook.reading.compare import allowances
 from crankbook.reading.verification import expected_values
-from crankbook.reading.workbook_reader import Range, cells, expected_shape, formulas, load_named
+from crankbook.reading.workbook_reader import (cells, expected_shape, formulas, load_named,
+                                              saved_without_values)
 from crankbook.support.workspace import temporary_directory
 
 
@@ -34,19 +35,6 @@ def _addresses(found):
             yield f"'{found.sheet}'!{get_column_letter(c)}{r}"
 
 
-def _saved_without_values(book, spec, ranges):
-    """True when the template's formula cells carry no stored results (e.g. written by
-    openpyxl); only the template's own names are looked at, one cell each."""
-    for q in spec.quantities():
-        found = ranges.get(f"q_{q.key}")
-        if found is None or q.formula is None:
-            continue
-        first = Range(found.sheet, found.min_row, found.min_col, found.min_row, found.min_col)
-        if formulas(book, first)[0]:
-            return cells(book, first)[0] is None
-    return False
-
-
 def audit_workbook(path, workdir=None):
     """(spec, findings, recalculated, rule_message) for the workbook at ``path``.
 
@@ -56,7 +44,7 @@ def audit_workbook(path, workdir=None):
     """
     loaded = load_named(path)
     book, spec, ranges = loaded[0], loaded[1], loaded[3]
-    recalculated = _saved_without_values(book, spec, ranges)
+    recalculated = saved_without_values(book, spec, ranges)
     if recalculated:
         with temporary_directory("audit", workdir) as tmp:
             converted = recalc.convert([path], tmp)[0]

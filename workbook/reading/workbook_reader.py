@@ -6,12 +6,13 @@ sheets), so a damaged or hostile file costs one clear error, not the machine.
 """
 import json
 import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from crankbook.errors import CrankbookError, WorkbookReadError
+from crankbook.errors import CrankbookError, CrankbookWarning, WorkbookReadError
 from crankbook.spec.evaluate import MAX_ROWS
 from crankbook.reading.xlsx_reader import Unreadable, XlsxBook
 from crankbook.spec.loader import load as load_spec, template_names
@@ -301,11 +302,30 @@ def load_named(path):
         spec, ranges, grids)
 
 
+def saved_without_values(book, spec, ranges):
+    """True when the template's formula cells carry no stored results (e.g. written by
+    openpyxl); only the template's own names are looked at, one cell each."""
+    for q in spec.quantities():
+        found = ranges.get(f"q_{q.key}")
+        if found is None or q.formula is None:
+            continue
+        first = Range(found.sheet, found.min_row, found.min_col, found.min_row, found.min_col)
+        if formulas(book, first)[0]:
+            return cells(book, first)[0] is None
+    return False
+
+
 def stored_results(path, shown):
     """The fields of a crankbook.results.Results holding the workbook's own values
-    (``shown``: the path its messages name, when ``path`` is a recalculated copy)."""
+    (``shown``: the path its messages name, when ``path`` is a recalculated copy).
+    A file saved without calculated values (openpyxl writes formulas only) reads as
+    NaN: a CrankbookWarning says so in one line."""
     from crankbook.reading.compare import as_array
     book, spec, template, ranges, values, tables, grids, sizes, grid_rows = load_named(path)
+    if saved_without_values(book, spec, ranges):
+        warnings.warn(f"{Path(shown).name} holds no calculated values (saved by a program "
+                      f"that does not calculate, such as openpyxl): its q_ values read as NaN; "
+                      f"read it with recalculate=True", CrankbookWarning, stacklevel=2)
     stored = read_results(book, spec, ranges, shown, sizes, grid_rows)
     results = {}
     for q in spec.quantities():

@@ -192,6 +192,17 @@ def _write_num_cache(self, data):
 Chart._write_num_cache = _write_num_cache
 
 
+def _write_plot_vis_only(self):
+    """<c:plotVisOnly> always written: xlsxwriter leaves it out for a chart that plots
+    hidden rows, and openpyxl (the first thing a Python user saves a workbook with)
+    reads a missing element as 1 — after its save the charts would skip the rows
+    folded for printing and draw every curve at the print step."""
+    self._xml_empty_tag("c:plotVisOnly", [("val", 0 if self.show_hidden else 1)])
+
+
+Chart._write_plot_vis_only = _write_plot_vis_only
+
+
 class FastWorkbook(Workbook):
     """A workbook whose every sheet is a FastWorksheet (crankbook's formulas need none
     of xlsxwriter's per-cell formula rewriting), in Arial 10 throughout: the Normal
