@@ -84,3 +84,57 @@ def angles_beyond_a_turn(rise_angle, far_dwell, return_angle):
 def zero_rotation(rotation):
     """1 where a sense of rotation is 0 (it must be 1 or −1)."""
     return _flag(np.asarray(rotation) == 0)
+
+
+# ------------------------------------------------------------ plausibility
+# Legal values an engineer rarely means: 1 flags a likely slip, the build goes on.
+
+STEEL_DENSITY = 7850.0          # kg/m³
+MEAN_PISTON_SPEED_LIMIT = 30.0  # m/s: above any production engine's (racing engines ~25)
+FIRING_GRID = 15.0              # °: regular firing intervals are whole multiples of it
+FIRING_SLIP = 2.0               # °: a firing angle this close to, not on, the grid is a slip
+
+
+def heavier_than_solid_steel(mass, bore):
+    """1 where ``mass`` [kg] exceeds a solid steel cylinder as wide and as long as the
+    bore [m] (7850·π/4·D³): no piston or rod is, so grams were typed for kg."""
+    return _flag(np.asarray(mass) > STEEL_DENSITY * np.pi / 4 * np.asarray(bore) ** 3)
+
+
+def piston_speed_implausible(mean_piston_speed):
+    """1 where the mean piston speed [m/s] exceeds 30 m/s (Heywood, ch. 2: 8–15 m/s for
+    most engines, about 25 m/s for racing engines): a stroke or speed slip."""
+    return _flag(np.asarray(mean_piston_speed) > MEAN_PISTON_SPEED_LIMIT)
+
+
+def firing_angle_slip(firing_angle):
+    """1 where a firing angle [rad] lies within 2° of a multiple of 15° without being on
+    it (179° for 180°): every regular interval (720/n, a V's bank angle) is a multiple
+    of 15°, so a degree off is a typing slip."""
+    degrees = np.degrees(np.asarray(firing_angle, dtype=float))
+    off = np.abs((degrees + FIRING_GRID / 2) % FIRING_GRID - FIRING_GRID / 2)
+    return _flag(np.any((off > 1e-6) & (off <= FIRING_SLIP)))
+
+
+MIN_INTAKE_PRESSURE = 0.5e6     # Pa: a four-stroke trace whose lowest point is above it is in bar
+
+
+def trace_looks_like_bar(pressure_source, trace_pressure):
+    """1 where the measured trace is chosen and its lowest pressure [Pa] is above
+    0.5 MPa: an engine breathes near 0.1 MPa (boosted, up to about 0.4 MPa), so the
+    numbers are bar typed as MPa."""
+    pressures = np.asarray(trace_pressure, dtype=float)
+    pressures = pressures[np.isfinite(pressures)]
+    low = pressures.min() if pressures.size else 0.0
+    return _flag((np.asarray(pressure_source) == 1) & (low > MIN_INTAKE_PRESSURE))
+
+
+def flywheel_implausible(station_inertia, bore):
+    """1 where the flywheel station's inertia [kg·m²] (the last station) is below the
+    crank throws' together — no flywheel is lighter than the crank it steadies — or
+    above a solid steel disc four bores across and half a bore thick
+    (7850·π/4·(4D)²·(D/2)·(4D)²/8 = 7850·4π·D⁵): a flywheel sized at a low p_speed,
+    or a slip in the typed value."""
+    inertia = np.asarray(station_inertia, dtype=float)
+    flywheel, throws = inertia[-1], inertia[1:-1].sum()
+    return _flag((flywheel < throws) | (flywheel > STEEL_DENSITY * 4 * np.pi * bore ** 5))

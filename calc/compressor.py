@@ -238,6 +238,16 @@ def stage_count_beyond(stage_column, column_phase):
     return np.where(np.asarray(stage_column) > np.size(column_phase), 1.0, 0.0)
 
 
+def suction_above_previous_discharge(stage_suction_pressure, stage_discharge_pressure):
+    """1 for a stage (after the first) whose suction pressure is above the previous
+    stage's discharge pressure: between stages the gas only loses pressure."""
+    suction = np.asarray(stage_suction_pressure, dtype=float)
+    discharge = np.asarray(stage_discharge_pressure, dtype=float)
+    above = np.zeros(suction.shape)
+    above[1:] = suction[1:] > discharge[:-1]
+    return above
+
+
 def suction_not_below_discharge(stage_suction_pressure, stage_discharge_pressure):
     """1 for a stage whose suction pressure is not below its discharge pressure."""
     return np.where(np.asarray(stage_suction_pressure) >= np.asarray(stage_discharge_pressure),

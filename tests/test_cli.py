@@ -23,7 +23,54 @@ BAD_SETS = [
     (["--preset", "nosuch"], "unknown preset 'nosuch'"),
     (["--step", "7"], "must divide 720"),
     (["--step", "-1"], "the grid step must be ≥ 0.1"),
+    (["--step", "7"], "crankbook: error: --step 7:"),         # the flag, not the API keyword
+    (["--preset", "compressor", "--set", "stage_discharge_pressure=0.5,3.5,20"],
+     "stage 2: stage_suction_pressure = 0.6 MPa: a stage cannot suck above the previous"),
 ]
+
+# legal values an engineer rarely means: one warning line, exit 0, the workbook written
+SLIPS = [
+    (["--set", "piston_mass=316"], "grams typed for kg"),
+    (["--set", "rod_mass=328"], "grams typed for kg"),
+    (["--set", "speed=12000"], "mean piston speed is above 30 m/s"),
+    (["--preset", "inline-4", "--set", "firing_angle=360,540,181,0"], "1–2° off a regular"),
+    (["--preset", "inline-6", "--set", "speed=1000", "--set", "flywheel_inertia_typed=0"],
+     "flywheel is implausible"),
+    (["--step", "10"], "a 10° grid step is coarser than 5° and reads the peaks between its "
+                       "rows: cylinder_pressure_max reads low"),
+]
+
+
+@pytest.mark.parametrize("args,expected", SLIPS)
+def test_a_plausible_slip_gets_one_warning_line_and_the_workbook(tmp_path, args, expected):
+    output = tmp_path / "out.xlsx"
+    done = run_cli("build", *args, "-o", output)
+    assert done.returncode == 0, done.stderr
+    lines = done.stderr.strip().splitlines()        # the slip first; what it causes after
+    assert lines and all(line.startswith("crankbook: warning: ") for line in lines), lines
+    assert expected in lines[0]
+    assert output.exists()
+
+
+def test_the_coarse_steps_effect_is_measured_against_the_fine_grid():
+    import warnings
+    import crankbook
+    from crankbook.errors import CoarseStepWarning
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        coarse = crankbook.compute("thesis", step=10)
+    assert [w.category for w in caught] == [CoarseStepWarning]
+    fine = crankbook.compute("thesis")
+    low = 100 * (coarse.scalars["cylinder_pressure_max"] / fine.scalars["cylinder_pressure_max"] - 1)
+    assert low < -1                                # 10° misses the peak by some per cent
+    assert f"cylinder_pressure_max {coarse.scalars['cylinder_pressure_max']:.4g} " \
+           f"({low:+.2f} %)" in coarse.coarse_step_effect()
+    assert crankbook.compute("thesis", step=5).coarse_step_effect() is None
+
+
+def test_a_build_without_a_slip_says_nothing(tmp_path):
+    done = run_cli("build", "--preset", "inline-6", "-o", tmp_path / "i6.xlsx")
+    assert done.returncode == 0 and done.stderr == "", done.stderr
 
 
 def _assert_clean_refusal(done, expected, output):

@@ -4,12 +4,14 @@ Every user error is a CrankbookError, caught here once and printed as one line
 (exit code 2); nothing is written when a build fails.
 """
 import argparse
+import contextlib
 import os
 import sys
 import time
+import warnings
 
 from crankbook import __version__
-from crankbook.errors import BuildOptionError, CrankbookError
+from crankbook.errors import BuildOptionError, CrankbookError, CrankbookWarning
 
 LANGS = ("zh", "en")
 
@@ -457,6 +459,24 @@ def _terminate(signum, frame):
     raise KeyboardInterrupt
 
 
+@contextlib.contextmanager
+def _warnings_as_lines(said):
+    """crankbook's own warnings (a slip such as grams typed for kg) are collected in
+    ``said``, one line each, once; the caller prints them after the command's own
+    output, or drops them when the command fails (its error is the one line to read).
+    A library's (numpy's overflow, xlsxwriter's notes) never reach the user."""
+
+    def show(message, category, *_args, **_kwargs):
+        text = _one_line(message)
+        if issubclass(category, CrankbookWarning) and text not in said:
+            said.append(text)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        warnings.showwarning = show
+        yield
+
+
 def main(argv=None):
     import signal
     signal.signal(signal.SIGTERM, _terminate)      # a kill cleans up like Ctrl-C
@@ -464,10 +484,16 @@ def main(argv=None):
     handlers = {"build": _build, "verify": _verify, "audit": _audit, "assign": _assign,
                 "grade": _grade, "check": _check, "export": _export, "presets": _presets,
                 "parameters": _parameters}
+    said = []
     try:
-        return handlers[args.command](args)
+        with _warnings_as_lines(said):
+            code = handlers[args.command](args)
+        for text in said:
+            print(f"crankbook: warning: {text}", file=sys.stderr)
+        return code
     except CrankbookError as error:
-        print(f"crankbook: error: {_one_line(error)}", file=sys.stderr)
+        shown = error.for_command_line() if isinstance(error, BuildOptionError) else error
+        print(f"crankbook: error: {_one_line(shown)}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         return 0

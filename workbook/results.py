@@ -6,11 +6,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import sys
+import warnings
 
 import numpy as np
 
 from crankbook.spec import params as parameters
-from crankbook.errors import BuildOptionError, GeometryError
+from crankbook.errors import (BuildOptionError, CoarseStepWarning, CrankbookWarning,
+                              GeometryError)
 from crankbook.spec.evaluate import axis_sizes, build_grids, evaluate
 
 
@@ -114,6 +116,21 @@ class Results:
     def __repr__(self):
         return (f"<crankbook.Results {self.template} (preset {self.preset.get('name')}): "
                 f"{len(self.spec.parameters)} parameters, {len(self.results)} quantities>")
+
+    def coarse_step_effect(self):
+        """What a coarse main grid does to the template's compared results (p_max, the
+        mean torque, the power), measured against a build at the template's own step:
+        one line, or None where the step is not coarse."""
+        coarse, step = self.spec.coarse_step, self.steps.get("step")
+        if not coarse or step is None or step <= coarse["above"]:
+            return None
+        fine = results_for(self.spec, self.preset, self.values, self.tables,
+                           {**self.steps, "step": None})
+        moved = [f"{key} {self[key]:.4g} ({100 * (self[key] / fine[key] - 1):+.2f} %)"
+                 for key in coarse["compare"] if fine[key]]
+        return (f"a {step:g}° grid step is coarser than {coarse['above']:g}° and reads the "
+                f"peaks between its rows; against the {self.spec.grid.step:g}° grid: "
+                + ", ".join(moved))
 
     def to_torsion_csv(self, directory):
         """Write ``stations.csv`` and ``harmonics.csv`` (the torsional system and each
@@ -226,7 +243,35 @@ def compute(preset="thesis", *, group=None, pressure=None, step=None, **params):
         what = "the pressure DataFrame" if _is_frame(pressure) else str(pressure)
         tables, values = _trace_inputs(spec, _traces(spec, pressure), values, params, what)
     values = parameters.validate(spec, values, tables=tables, grids=build_grids(spec, steps))
-    return results_for(spec, meta, values, tables, steps)
+    results = results_for(spec, meta, values, tables, steps)
+    _warn_coarse_step(results, steps)
+    _warn_status_notes(results)
+    return results
+
+
+def _warn_status_notes(results):
+    """Every note the status cell shows after its ✓ (a slip such as grams typed for kg,
+    a Holzer grid that finds no mode) is a warning on the command line and in Python
+    too: legal inputs, so the build goes on."""
+    known = {**results.values, **results.results}
+    for note in results.spec.notes:
+        if note.get("status") and float(known[note["when_nonzero"]]) != 0:
+            warnings.warn(note["en"], CrankbookWarning, stacklevel=3)
+
+
+def _warn_coarse_step(results, steps):
+    """A main grid coarser than the template's ``coarse_step`` reads the peaks between
+    rows: one warning in words (measuring it costs a second build, which
+    :meth:`Results.coarse_step_effect` makes on request)."""
+    coarse, step = results.spec.coarse_step, steps.get("step")
+    if not coarse or step is None or step <= coarse["above"]:
+        return
+    first, *rest = coarse["compare"]
+    warnings.warn(CoarseStepWarning(
+        f"a {step:g}° grid step is coarser than {coarse['above']:g}° and reads the peaks "
+        f"between its rows: {first} reads low and {' and '.join(rest)} shift; build at "
+        f"{coarse['above']:g}° or finer to trust them (in Python, "
+        f"Results.coarse_step_effect() measures by how much)"), stacklevel=3)
 
 
 def results_for(spec, preset, values, tables=None, steps=None):

@@ -27,21 +27,24 @@ def numeric_grid(grid, step=None):
     return grid.start + step * np.arange(count + 1)
 
 
-def checked_step(grid, step, option="--step"):
+def checked_step(grid, step, option="step"):
     """``step`` if it divides the grid's span into at most MAX_ROWS rows, else
-    BuildOptionError naming the option and the rule."""
+    BuildOptionError naming the keyword (``step=…``; the command line shows its flag)
+    and the rule."""
     span = grid.stop - grid.start
     if step is None:
         return grid.step
     if isinstance(step, bool) or not isinstance(step, (int, float)) or not math.isfinite(step):
-        raise BuildOptionError(f"{option} {step!r}: the grid step must be a number")
+        raise BuildOptionError(f"{option}={step!r}: the grid step must be a number", option)
     lowest = max(MIN_STEP, span / MAX_ROWS)
     if not (lowest <= step <= span / 4):
-        raise BuildOptionError(f"{option} {step:g}: the grid step must be ≥ {lowest:g} and "
-                               f"≤ {span / 4:g} {'°' if grid.unit == 'deg' else grid.unit}")
+        raise BuildOptionError(f"{option}={step:g}: the grid step must be ≥ {lowest:g} and "
+                               f"≤ {span / 4:g} {'°' if grid.unit == 'deg' else grid.unit}",
+                               option)
     count = round(span / step)
     if abs(count * step - span) > 1e-9 * span:
-        raise BuildOptionError(f"{option} {step:g}: the grid step must divide {span:g} evenly")
+        raise BuildOptionError(f"{option}={step:g}: the grid step must divide {span:g} evenly",
+                               option)
     return float(step)
 
 
@@ -58,8 +61,7 @@ def build_grids(spec, steps=None):
     steps = steps or {}
     out = {}
     for option, grid in spec.grid_options().items():
-        dashed = "--" + option.replace("_", "-")
-        out[grid.key] = numeric_grid(grid, checked_step(grid, steps.get(option), dashed))
+        out[grid.key] = numeric_grid(grid, checked_step(grid, steps.get(option), option))
     for grid in spec.grids:
         if grid.is_numeric_grid and grid.key not in out:
             out[grid.key] = numeric_grid(grid)

@@ -270,7 +270,7 @@ def _chart(entry, sheet_entry, file):
         entry = {"y": list(entry)}
     known = {"y", "x", "x_each", "title_zh", "title_en", "axis_zh", "axis_en", "unit", "x_axis_zh",
              "x_axis_en", "x_unit", "equal_axes", "type", "log", "curve_zh", "curve_en", "curves",
-             "live_names"}
+             "live_names", "emphasis", "heavy"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, sheet_entry["key"], f"chart: unknown field(s) "
@@ -289,7 +289,8 @@ def _chart(entry, sheet_entry, file):
                  x_unit=entry.get("x_unit"), equal_axes=entry.get("equal_axes", False),
                  type=entry.get("type", "scatter"), log=bool(entry.get("log", False)),
                  curve_zh=entry.get("curve_zh", ""), curve_en=entry.get("curve_en", ""),
-                 curves=entry.get("curves"), live_names=bool(entry.get("live_names", False)))
+                 curves=entry.get("curves"), live_names=bool(entry.get("live_names", False)),
+                 emphasis=entry.get("emphasis"), heavy=tuple(entry.get("heavy", ())))
 
 
 def _adopted_rules(data):
@@ -411,6 +412,7 @@ def build(data, file):
         input_tables=tables, rules=rules, scalars=scalars, sheets=sheets, results=results,
         summary=_summary_quantities(by_grid, summary_series),
         highlights=tuple(head.get("highlights", ())), key_data=tuple(head.get("key_data", ())),
-        print_step=head.get("print_step"), notes=tuple(head.get("notes", ())))
+        print_step=head.get("print_step"), notes=tuple(head.get("notes", ())),
+        coarse_step=head.get("coarse_step"))
     check(spec)
     return spec

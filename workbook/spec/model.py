@@ -230,6 +230,10 @@ class Chart:
     curves: int | None = None     # per-item curves: only the first n items (lowest modes)
     live_names: bool = False      # per-item curves' legend names are formulas that say
                                   # when a curve has no values (a mode above the grid)
+    emphasis: str | None = None   # a per-item quantity of the first y's axis: 2 = a bold
+                                  # curve in the legend, 1 = thin grey, 0 = thin grey dashed
+                                  # (1 and 0 leave the legend)
+    heavy: tuple = ()             # y keys whose curves are drawn thick and dashed
 
 
 @dataclass(frozen=True)
@@ -279,6 +283,7 @@ class WorkbookSpec:
     key_data: tuple = ()          # inputs and results shown at the top of the Summary
     print_step: float | None = None   # series tables print every print_step (rows between grouped)
     notes: tuple = ()             # Summary warnings: ({"when_nonzero": key, "zh", "en"}, …)
+    coarse_step: dict | None = None   # {"above": °, "compare": keys}: a coarser step warns
 
     def __post_init__(self):
         self.parameter = {p.key: p for p in self.parameters}

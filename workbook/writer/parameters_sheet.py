@@ -15,6 +15,7 @@ HEADERS = {
 }
 STATUS_OK = ("✓ 输入有效：所有表格与图表已按这些参数计算",
              "✓ inputs valid: every table and chart follows these parameters")
+BROKEN = ("不满足的规则", "every broken rule")      # more than one: each named by its key
 
 
 def both(pair, lang):
@@ -182,9 +183,11 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
                 key, text = note["when_nonzero"], f"{note[lang]} / {note[layout.other]}"
                 ok_formula += f'&IF({layout.locator.name(key)}<>0," — {text}","")'
                 ok_value += f" — {text}" if float({**values, **results}[key]) != 0 else ""
+            # more than one broken: every one by its key (no TEXTJOIN before Excel 2019)
+            names = "&".join(f'IF($B${r + 1}=1,", "&$A${r + 1},"")' for r in checks)
             status = (f'=IF(SUM({flags})=0,{ok_formula},"✗ "&INDEX({msg},MATCH(1,{flags},0))'
                       f'&" / "&INDEX({msg_other},MATCH(1,{flags},0))'
-                      f'&IF(SUM({flags})>1," (+"&(SUM({flags})-1)&")",""))')
+                      f'&IF(SUM({flags})>1," ({both(BROKEN, lang)}: "&MID({names},3,2000)&")",""))')
             ws.merge_range(status_row, 1, status_row, 5, "", styles.status)
             ws.write_formula(status_row, 1, status, styles.status, ok_value)
             ws.conditional_format(status_row, 1, status_row, 5, {

@@ -18,6 +18,29 @@ def _labels(ws, row, item, layout, styles):
                             1: (label(item, layout.other), WIDTHS[1])}, styles.text)
 
 
+def _write_status_line(ws, layout, values, results, styles):
+    """One live line under the title: with inputs that break a rule, the Parameters
+    status itself (the broken rule in words, then every further one by name) — not a
+    consequence such as an empty Holzer grid; with valid inputs, every note whose
+    parameter or result is not 0 (an offset build's series columns, a slip such as
+    grams typed for kg)."""
+    from crankbook.spec.formulas import quote_sheet
+    spec = layout.spec
+    place = layout.places["input_status"]
+    status = f"{quote_sheet(place.sheet)}!$B${place.row + 1}"
+    known = {**values, **results}
+    parts, shown = [], []
+    for note in spec.notes:
+        text = f"{note[layout.lang]} / {note[layout.other]}"
+        parts.append(f'IF({layout.locator.name(note["when_nonzero"])}<>0,"{text}  ","")')
+        if float(known[note["when_nonzero"]]) != 0:
+            shown.append(f"{text}  ")
+    notes = "&".join(parts) if parts else '""'
+    formula = f"=IF(q_inputs_valid<>1,{status},{notes})"
+    ws.merge_range(2, 0, 2, len(WIDTHS) - 1, "", styles.warning)
+    ws.write_formula(2, 0, formula, styles.warning, "".join(shown))
+
+
 def write_summary_sheet(book, layout, values, results, styles):
     spec, lang = layout.spec, layout.lang
     name = layout.sheet_name["summary"]
@@ -27,13 +50,7 @@ def write_summary_sheet(book, layout, values, results, styles):
         ws.set_column(col, col, width)
     ws.write(0, 0, f"{label(spec, lang)} — {'汇总' if lang == 'zh' else 'Summary'}", styles.title)
     ws.write(1, 0, "所有数值均为公式 / every value is a formula", styles.subtitle)
-    # live warnings: a note shows while its parameter is not 0 (e.g. an offset build's
-    # series columns hold for a centric mechanism only)
-    for number, note in enumerate(spec.notes):
-        key, text = note["when_nonzero"], f"{note[lang]} / {note[layout.other]}"
-        shown = text if float({**values, **results}[key]) != 0 else ""
-        ws.write_formula(2, 2 * number, f'=IF({layout.locator.name(key)}<>0,"{text}","")',
-                         styles.warning, shown)
+    _write_status_line(ws, layout, values, results, styles)
 
     key_data = spec_key_data(spec)
     if key_data:
