@@ -416,14 +416,9 @@ def resonant_amplitude(resonant_torque_amplitude, relative_amplitude_sum,
 
 
 # ---------------------------------------------------------------- Campbell diagram
-CAMPBELL_ROWS = 21
-CAMPBELL_ORDERS = 12
+CAMPBELL_ROWS = 101        # speeds 0 … 1.25·n_max: the operating range's box ends within 1.25 %
 CAMPBELL_MODES = 3
-
-
-def campbell_order_count():
-    """Order lines of the Campbell diagram: k = 1 … 12."""
-    return CAMPBELL_ORDERS
+MAJOR, MINOR, HALF = 2.0, 1.0, 0.0
 
 
 def campbell_mode_count(throw):
@@ -432,15 +427,45 @@ def campbell_mode_count(throw):
 
 
 def campbell_speeds(operating_speed):
-    """Speeds 0 … 1.25 × the highest operating speed in 20 steps [rad/s]."""
+    """Speeds 0 … 1.25 × the highest operating speed in 100 steps [rad/s]."""
     return np.arange(CAMPBELL_ROWS) * 1.25 * np.max(operating_speed) / (CAMPBELL_ROWS - 1)
 
 
 def order_lines(campbell_speed):
-    """(speeds, orders) f = k·ω/2π [Hz] (= k·n/60 with n in r/min) for k = 1 … 12;
-    ``campbell_speed`` ω [rad/s]."""
+    """(speeds, orders) f = k·ω/2π [Hz] (= k·n/60 with n in r/min) for the orders
+    k = 0.5, 1, …, 12 of a four-stroke engine; ``campbell_speed`` ω [rad/s]."""
     omega = np.ravel(campbell_speed).astype(float)
-    return omega[:, None] * np.arange(1, CAMPBELL_ORDERS + 1)[None, :] / (2 * np.pi)
+    return omega[:, None] * np.asarray(ORDERS)[None, :] / (2 * np.pi)
+
+
+def major_orders(firing_angle, torque_order):
+    """Per order k: 2 where every cylinder's order-k torque is in phase — |Σ e^(j·k·φ_i)|
+    equals the number of cylinders (the major orders, k = n/2, n, … of an evenly firing
+    four-stroke inline engine; Den Hartog §5.8) — 1 for another whole order, 0 for a
+    half order.  ``firing_angle`` φ_i [rad], ``torque_order`` k [-]."""
+    phi = np.asarray(firing_angle, dtype=float)
+    k = np.ravel(torque_order).astype(float)
+    total = np.abs(np.exp(1j * k[:, None] * phi[None, :]).sum(axis=1))
+    whole = np.where(np.abs(k - np.round(k)) < 1e-9, MINOR, HALF)
+    return np.where(np.abs(total - phi.size) < 1e-6, MAJOR, whole)
+
+
+def operating_box_speed(campbell_speed, operating_speed):
+    """The x of the operating range's box on the Campbell diagram [rad/s]: n_min, n_min,
+    n_max, n_max, n_min, then n_min on every further row (the box drawn once)."""
+    low, high = np.min(operating_speed), np.max(operating_speed)
+    rows = np.ravel(campbell_speed).size
+    corners = np.array([low, low, high, high, low])
+    return np.concatenate([corners, np.full(max(rows - 5, 0), low)])[:rows]
+
+
+def operating_box_frequency(campbell_speed):
+    """The y of the box [Hz]: 0, the top order line's highest frequency (12·ω_max/2π),
+    the same, 0, 0, then 0."""
+    speeds = np.ravel(campbell_speed).astype(float)
+    top = ORDERS[-1] * np.max(speeds) / (2 * np.pi)
+    corners = np.array([0.0, top, top, 0.0, 0.0])
+    return np.concatenate([corners, np.zeros(max(speeds.size - 5, 0))])[:speeds.size]
 
 
 def natural_lines(natural_frequency, campbell_speed):

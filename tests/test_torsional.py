@@ -323,3 +323,55 @@ def test_a_modes_columns_are_headed_by_the_mode(tmp_path):
                            for h in headers)           # the header's two languages
     rows = [c.value for c in book["Sections, frequencies"]["A"] if isinstance(c.value, str)]
     assert "Section / mode 1" in rows            # the shared rows keep the shared label
+
+
+@pytest.mark.parametrize("preset,major", [("inline-4", 2.0), ("inline-6", 3.0),
+                                          ("v8-crossplane", 4.0), ("inline-3", 1.5)])
+def test_the_campbell_diagram_draws_every_order_of_the_critical_speed_table(preset, major):
+    """A four-stroke engine's torque has half orders: the diagram draws k = 0.5 … 12
+    (it drew 1 … 12, so an inline-3's 1.5 resonance was in the table and not on the
+    diagram), and marks as major exactly the multiples of n/2."""
+    import crankbook
+    r = crankbook.compute(preset, step=30.0)
+    speeds = np.asarray(r["campbell_speed"], dtype=float)
+    lines = np.asarray(r["campbell_order_line"], dtype=float)
+    orders = lines[-1] * 60 / speeds[-1]                  # f = k·n/60 at the top speed
+    assert orders == pytest.approx(np.asarray(r["torsion_order"], dtype=float), rel=1e-12)
+    assert orders.size == 24 and orders[[0, -1]] == pytest.approx([0.5, 12], rel=1e-12)
+    orders = np.round(orders * 2) / 2
+    expected = [2 if abs(k / major - round(k / major)) < 1e-12 else 1 if k == round(k) else 0
+                for k in orders]
+    assert list(r["major_order"]) == expected
+    # each resonance of the table is a crossing on the diagram: the order line reaches
+    # the mode's frequency at the table's critical speed
+    for i, k in enumerate(orders):
+        for mode, f in enumerate(np.asarray(r["natural_frequency"], dtype=float)[:3]):
+            if np.isfinite(f):
+                n_c = r["critical_speed"][i][mode]
+                assert np.interp(n_c, speeds, lines[:, i]) == pytest.approx(f, rel=1e-9) \
+                    or n_c > speeds[-1]
+
+
+def test_the_operating_box_spans_the_operating_speeds():
+    import crankbook
+    r = crankbook.compute("inline-6", step=30.0)
+    x, y = np.asarray(r["operating_box_speed"]), np.asarray(r["operating_box_frequency"])
+    low, high = min(r.parameters["operating_speed"]), max(r.parameters["operating_speed"])
+    assert list(x[:5]) == [low, low, high, high, low] and set(x[5:]) == {low}
+    top = 12 * max(r["campbell_speed"]) / 60
+    assert list(y[:5]) == pytest.approx([0, top, top, 0, 0]) and not y[5:].any()
+
+
+@pytest.mark.parametrize("speed", [1000.0, 4500.0])
+def test_the_flywheel_is_a_part_not_a_function_of_the_speed(speed):
+    """The preset's flywheel is sized once (at its design speed): the torsional model's
+    frequencies do not move when only p_speed changes.  Sized at p_speed instead (0
+    typed), a low speed makes a flywheel no engine has, and the check says so."""
+    import crankbook
+    base = crankbook.compute("inline-6", step=30.0)
+    moved = crankbook.compute("inline-6", step=30.0, speed=speed)
+    assert moved["natural_frequency"][:2] == pytest.approx(base["natural_frequency"][:2],
+                                                           rel=1e-12)
+    assert moved.scalars["flywheel_implausible"] == 0
+    sized = crankbook.compute("inline-6", step=30.0, speed=1000.0, flywheel_inertia_typed=0)
+    assert sized.scalars["flywheel_implausible"] == 1

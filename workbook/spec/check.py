@@ -62,6 +62,16 @@ def check(spec):
         for chart in s.charts:
             if chart.x_each and len(chart.x_each) != len(chart.y):
                 raise SpecError(spec.file, s.key, "x_each needs one x per y")
+            if chart.emphasis is not None:
+                first = spec.quantity.get(chart.y[0])
+                marked = spec.quantity.get(chart.emphasis)
+                if marked is None or first is None or not first.items or \
+                        marked.items != first.items or marked.is_series:
+                    raise SpecError(spec.file, s.key, f"chart: emphasis {chart.emphasis!r} "
+                                    f"must be one value per item of {chart.y[0]!r}'s axis")
+            if set(chart.heavy) - set(chart.y):
+                raise SpecError(spec.file, s.key, "chart: heavy names a key the chart does "
+                                "not draw")
             for key in chart.y + ((chart.x,) if chart.x else ()) + chart.x_each:
                 q = spec.quantity.get(key)
                 if q is None and key in spec.parameter:     # an items sheet's own input

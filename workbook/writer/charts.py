@@ -13,13 +13,15 @@ from crankbook.writer.layout import FIRST_ROW, label, unit_text
 COLOURS = ["#1F77B4", "#D62728", "#2CA02C", "#FF7F0E", "#9467BD", "#8C564B", "#E377C2",
            "#7F7F7F", "#BCBD22", "#17BECF", "#393B79", "#AD494A", "#637939", "#8C6D31",
            "#843C39", "#7B4173"]
+MUTED = "#A6A6A6"          # an emphasis below 2: a grey line behind the bold ones
 GRIDLINES = {"visible": True, "line": {"color": "#D9D9D9"}}
 
 
-def _ranges(layout, key, short=False, chart_spec=None):
+def _ranges(layout, key, short=False, chart_spec=None, results=None):
     """(name, range) of each curve of a series: one, or one per item (named by the item
     alone when ``short``: the curves of a polar diagram; "<curve> n" where the chart
-    names its curves, and only its first ``curves`` items)."""
+    names its curves, and only its first ``curves`` items; by the item's value, "k = 3",
+    where the axis is named by values and ``results`` holds them)."""
     spec, locator = layout.spec, layout.locator
     quantity = spec.quantity.get(key) or spec.parameter[key]
     place = layout.places[key]
@@ -31,8 +33,11 @@ def _ranges(layout, key, short=False, chart_spec=None):
     count = place.count if chart_spec is None or chart_spec.curves is None else \
         min(place.count, chart_spec.curves)
     curve = chart_spec and (chart_spec.curve_zh if layout.lang == "zh" else chart_spec.curve_en)
+    axis = spec.axis[quantity.items]
+    named_by = axis.value_key if results is not None and axis.value_key in results else None
     words = [f"{curve} {i + 1}" if curve else
-             layout.item_label(quantity.items, layout.lang, i + 1, quantity.item_word)
+             axis.label(layout.lang, i + 1, float(np.ravel(results[named_by])[i])) if named_by
+             else layout.item_label(quantity.items, layout.lang, i + 1, quantity.item_word)
              for i in range(count)]
     return [(words[i] if short or curve else f"{label(quantity, layout.lang)} — {words[i]}",
              locator.column_range(key, col=place.col + i)) for i in range(count)]
@@ -251,6 +256,7 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
     x_ranges = _ranges(layout, x_key) if chart_spec.x else \
         [(None, f"{quote_sheet(sheet)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}")]
     curves, xs, ys, used_x, used_y = 0, [], [], [], []
+    unnamed = []                       # curves the legend leaves out (emphasis below 2)
     if chart_spec.live_names:
         names_row, names_col = _names_block(layout, sheet_spec, chart_spec)
         if ws is not None:
@@ -261,7 +267,8 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
             x_ranges = _ranges(layout, x_key)
         for index, (name, values) in enumerate(_ranges(layout, key,
                                                         short=bool(chart_spec.x),
-                                                        chart_spec=chart_spec)):
+                                                        chart_spec=chart_spec,
+                                                        results=results)):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
             y_source = results[key]
             y = np.asarray(y_source, dtype=float)
@@ -285,6 +292,17 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
             else:
                 series["line"] = {"color": colour, "width": 1.5}
                 series["marker"] = {"type": "none"}
+                if key in chart_spec.heavy:
+                    series["line"] = {"color": colour, "width": 3.0, "dash_type": "dash"}
+                elif chart_spec.emphasis and number == 0:
+                    level = float(np.ravel(results[chart_spec.emphasis])[index])
+                    if level >= 2:           # the bold ones take the palette in turn
+                        bold = COLOURS[(curves - len(unnamed)) % len(COLOURS)]
+                        series["line"] = {"color": bold, "width": 2.5}
+                    else:
+                        series["line"] = {"color": MUTED, "width": 0.75,
+                                          **({} if level >= 1 else {"dash_type": "dash"})}
+                        unnamed.append(curves)
             chart.add_series(series)
             xs.append(x)
             ys.append(y)
@@ -308,6 +326,8 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
         x_axis["crossing"] = "min"
     size = dict(size or (EQUAL_AXES_SIZE if chart_spec.equal_axes else CHART_SIZE))
     legend = {"position": "bottom"} if curves > 1 else {"none": True}
+    if unnamed:
+        legend = {"position": "right", "delete_series": unnamed}
     if chart_spec.equal_axes:
         frame = Frame(xs, ys)
         if ws is not None:
