@@ -100,6 +100,13 @@ def within(value, low, high):
     return np.where((value >= low) & (value <= high), 1.0, 0.0)
 
 
+def band_verdict(value, low, high):
+    """1 where low ≤ value ≤ high; 0 below the band (unsafe); 2 above it (safe, but
+    heavier than the band asks: the part could be lighter)."""
+    value = np.asarray(value, dtype=float)
+    return np.where(value < low, 0.0, np.where(value > high, 2.0, 1.0))
+
+
 def cylinder_pitch(web_thickness, main_journal_length, crankpin_length):
     """L = 2h + L1 + L2 [m] (thesis §4.4.1)."""
     return 2 * web_thickness + main_journal_length + crankpin_length
@@ -252,6 +259,15 @@ def choose_mean(source, maximum, minimum, typed):
 def percent_change(new, old):
     """(new − old)/old·100 [%]."""
     return (new - old) / old * 100
+
+
+def study_change(alternative, current, direction):
+    """The stroke study's change [%] in its direction: ``direction`` 1 (to the
+    alternative) (S′ − S)/S·100; 2 (from the alternative, as the thesis went from
+    96 to 100 mm) (S − S′)/S′·100."""
+    if direction == 2:
+        return percent_change(current, alternative)
+    return percent_change(alternative, current)
 
 
 def engine_volume(swept_volume, firing_angle):

@@ -106,6 +106,18 @@ def test_seed_002_fatigue_safety_factor():
     assert s["fatigue_within_band"] == 1
 
 
+@pytest.mark.parametrize("band_max, verdict", [(1.3, 2), (1.5, 1), (1.4812, 1)])
+def test_a_factor_above_the_band_is_heavier_not_failing(band_max, verdict):
+    """Above the band the crankshaft is safe but heavier than needed (2), below it is
+    unsafe (0): a factor of 120 once read 'outside 不符合' like a failing one."""
+    s = crankbook.compute("thesis", fatigue_stress_source=1, fatigue_band_min=1.3,
+                          fatigue_band_max=band_max).scalars
+    assert s["fatigue_within_band"] == verdict
+    below = crankbook.compute("thesis", fatigue_stress_source=1, fatigue_band_min=1.5,
+                              fatigue_band_max=1.8).scalars
+    assert below["fatigue_within_band"] == 0
+
+
 def test_fatigue_from_the_series_combines_bending_and_torsion(thesis):
     s, g = thesis.scalars, thesis.series()
     sigma = g["pin_bending_stress"]
@@ -143,7 +155,8 @@ def test_stroke_study_of_the_thesis_96_to_100_mm():
     area = np.pi / 4 * 8.8 ** 2                                     # cm²
     assert s["stroke_study_swept_volume"] == pytest.approx(area * 10.0, rel=1e-12)
     assert s["stroke_study_swept_volume_alternative"] == pytest.approx(area * 9.6, rel=1e-12)
-    assert s["stroke_study_swept_volume_change"] == pytest.approx(-4.0, rel=1e-12)
+    # in the thesis's direction, 96 → 100 mm: +4.17 %, its sign
+    assert s["stroke_study_swept_volume_change"] == pytest.approx(100 * 4 / 96, rel=1e-12)
     assert s["stroke_study_compression_ratio_alternative"] == pytest.approx(10.0, rel=1e-12)
     assert s["stroke_study_chamber_volume_alternative"] == pytest.approx(area * 9.6 / 9,
                                                                          rel=1e-12)
@@ -166,9 +179,20 @@ def test_stroke_study_of_the_thesis_96_to_100_mm():
     for key in ("swept_volume", "compression_ratio", "mean_piston_speed", "stroke_bore_ratio",
                 "peak_inertia_force", "peak_side_force", "peak_torque", "indicated_power",
                 "chamber_volume"):
-        new, old = s[f"stroke_study_{key}_alternative"], s[f"stroke_study_{key}"]
+        new, old = s[f"stroke_study_{key}"], s[f"stroke_study_{key}_alternative"]
         assert s[f"stroke_study_{key}_change"] == pytest.approx((new - old) / old * 100,
                                                                  abs=1e-12), key
+
+
+def test_stroke_study_reads_either_way():
+    """The thesis went from 96 to 100 mm; a designer asks what the alternative would
+    do: the same two engines, the change read from either end."""
+    thesis = crankbook.compute("thesis").scalars
+    forward = crankbook.compute("thesis", stroke_study_direction="to_alternative").scalars
+    assert forward["stroke_study_swept_volume_change"] == pytest.approx(-4.0, rel=1e-12)
+    for key in ("swept_volume", "peak_inertia_force", "peak_side_force", "indicated_power"):
+        up, down = thesis[f"stroke_study_{key}_change"], forward[f"stroke_study_{key}_change"]
+        assert (1 + up / 100) * (1 + down / 100) == pytest.approx(1, rel=1e-12), key
 
 
 def test_stroke_study_can_hold_the_chamber_instead():
