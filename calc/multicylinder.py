@@ -51,6 +51,16 @@ def shaking_order_count():
     return len(SHAKING_ORDERS)
 
 
+def cylinder_count(firing_angle):
+    """Z, the number of cylinders (one firing angle each) [-]."""
+    return float(np.size(firing_angle))
+
+
+def engine_displacement(cylinder_count, bore, stroke):
+    """V = Z·πD²/4·S [m³] (Heywood, Internal Combustion Engine Fundamentals, §2.2)."""
+    return cylinder_count * np.pi / 4 * bore ** 2 * stroke
+
+
 def crank_angle_of_throw(firing_angle, bank_angle):
     """θ_i at α = 0: the crank of cylinder i from the vertical, in [0, 2π) [rad]."""
     return np.mod(np.asarray(bank_angle, dtype=float) - np.asarray(firing_angle, dtype=float),
@@ -306,17 +316,25 @@ class Shaking(NamedTuple):
 
 
 def shaking(reciprocating_mass, cylinder_acceleration, bank_angle, rotating_force,
-            crank_angle, firing_angle, axial_position, axial_centre):
+            crank_angle, firing_angle, axial_position, axial_centre, scale):
     """Free forces and moments, a :class:`Shaking` of (N + 1,) series:
 
     F_x = Σ m_j·a_i·sinδ_i + F_rot,i·sinθ_i,  F_y = Σ m_j·a_i·cosδ_i + F_rot,i·cosθ_i,
-    pitch = Σ (z_i − z_c)·F_y,i,  yaw = Σ (z_i − z_c)·F_x,i.
+    pitch = Σ (z_i − z_c)·F_y,i,  yaw = Σ (z_i − z_c)·F_x,i;
+
+    each 0 where its size is at most 1e-9 of the first-order ``scale`` [N] (× 1 m for
+    a moment): a balanced engine's sums cancel to rounding noise, which a chart would
+    otherwise draw as a jagged line on an axis of 10⁻¹² N.
     """
     fx, fy = _cylinder_forces(reciprocating_mass, cylinder_acceleration, bank_angle,
                               rotating_force, crank_angle, firing_angle)
     arm = np.asarray(axial_position, dtype=float) - axial_centre
-    return Shaking(fx.sum(axis=1), fy.sum(axis=1), (fy * arm).sum(axis=1),
-                   (fx * arm).sum(axis=1))
+
+    def snapped(total):
+        return np.where(np.abs(total) <= ORDER_NOISE * scale, 0.0, total)
+
+    return Shaking(snapped(fx.sum(axis=1)), snapped(fy.sum(axis=1)),
+                   snapped((fy * arm).sum(axis=1)), snapped((fx * arm).sum(axis=1)))
 
 
 def classic_order_amplitude(order, reciprocating_mass, crank_radius, angular_velocity,

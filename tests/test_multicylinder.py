@@ -270,3 +270,31 @@ def test_a_zero_mean_torque_is_a_result_not_a_crash(tmp_path):
     path = r.to_excel(tmp_path / "flat.xlsx")
     from tests.conftest import named
     assert named(path)["q_torque_nonuniformity"] in (None, "")
+
+
+@pytest.mark.parametrize("preset", ["inline-6", "v8-crossplane", "boxer-4"])
+def test_a_balanced_engines_free_forces_and_moments_are_zero_not_noise(preset):
+    """The cylinders' forces cancel to rounding noise (1e-12 N): drawn, that noise
+    filled its chart with a jagged line on an axis of piconewtons. Below 1e-9 of the
+    first-order scale a free force or moment is 0; where an engine leaves one, it
+    is the sum itself."""
+    import crankbook
+    r = crankbook.compute(preset, step=6.0)
+    scale = r.scalars["first_order_scale"]
+    for key in ("shaking_moment_pitch", "shaking_moment_yaw", "shaking_force_x",
+                "shaking_force_y"):
+        flags = r["shaking_moment_unbalanced" if "moment" in key else "shaking_force_unbalanced"]
+        values = np.asarray(r[key], dtype=float)
+        if not np.any(flags):                    # balanced in every order: exactly 0
+            assert not values.any(), (preset, key, abs(values).max())
+    twin = crankbook.compute("v-twin-90", step=6.0)    # unbalanced: the sums themselves
+    assert abs(np.asarray(twin["shaking_force_y"])).max() > 1e-3 * scale
+
+
+def test_the_engine_torque_chart_draws_its_mean():
+    import crankbook
+    from crankbook.spec.loader import load
+    chart = next(c for s in load("engine").sheets if s.key == "engine_torque" for c in s.charts)
+    assert "engine_mean_torque_line" in chart.y and "mean" in chart.title_en
+    r = crankbook.compute("inline-4", step=6.0)
+    assert set(r["engine_mean_torque_line"]) == {r.scalars["engine_mean_torque"]}

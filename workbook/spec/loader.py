@@ -265,6 +265,31 @@ def _summary_quantities(grids, series):
     return out
 
 
+def _in_group_order(parameters, groups):
+    """The parameters, those of a group with an ``order`` list in that order (the rest
+    of the group after them): a group's inputs come from several libraries, and a
+    document lists them in its own order (the thesis's D1, L1, D2, L2, h, b)."""
+    out = list(parameters)
+    for name, entry in groups.items():
+        order = entry.get("order") if isinstance(entry, dict) else None
+        if not order:
+            continue
+        rank = {key: n for n, key in enumerate(order)}
+        slots = [i for i, p in enumerate(out) if p.group == name]
+        members = sorted((out[i] for i in slots), key=lambda p: rank.get(p.key, len(order)))
+        for i, p in zip(slots, members):
+            out[i] = p
+    return out
+
+
+def _chart_log(entry, sheet_entry, file):
+    log = entry.get("log", False)
+    if log not in (True, False, "y"):
+        raise SpecError(file, sheet_entry["key"], f"chart: log must be true, false or \"y\" "
+                                                  f"(not {log!r})")
+    return log
+
+
 def _chart(entry, sheet_entry, file):
     if isinstance(entry, (list, tuple)):
         entry = {"y": list(entry)}
@@ -287,7 +312,7 @@ def _chart(entry, sheet_entry, file):
                  unit=entry.get("unit", sheet_entry.get("unit", "-")),
                  x_axis_zh=entry.get("x_axis_zh", ""), x_axis_en=entry.get("x_axis_en", ""),
                  x_unit=entry.get("x_unit"), equal_axes=entry.get("equal_axes", False),
-                 type=entry.get("type", "scatter"), log=bool(entry.get("log", False)),
+                 type=entry.get("type", "scatter"), log=_chart_log(entry, sheet_entry, file),
                  curve_zh=entry.get("curve_zh", ""), curve_en=entry.get("curve_en", ""),
                  curves=entry.get("curves"), live_names=bool(entry.get("live_names", False)),
                  emphasis=entry.get("emphasis"), heavy=tuple(entry.get("heavy", ())))
@@ -332,7 +357,8 @@ def build(data, file):
                   "axis": (start, stop, 90.0), "_file": file, **head.get("grid_labels", {})},
                  period=cycle, step_option="step")
     grids = [main] + [_grid(g) for g in data["grid"]]
-    parameters = [_parameter(p) for p in data["parameter"]]
+    parameters = _in_group_order([_parameter(p) for p in data["parameter"]],
+                                 data.get("groups", {}))
     axes = [Axis(key=a["key"], zh=a["zh"], en=a["en"], label_zh=a.get("label_zh", a["zh"]),
                  label_en=a.get("label_en", a["en"]), size_calc=a.get("size_calc"),
                  size_args=dict(a.get("size_args", {})), max=a.get("max", 64),

@@ -224,7 +224,8 @@ class Chart:
     x_unit: str | None = None
     equal_axes: bool = False
     type: str = "scatter"         # scatter (lines) or column (bars over x)
-    log: bool = False             # logarithmic x and y axes (a p–V diagram)
+    log: bool | str = False       # True: logarithmic x and y axes (a p–V diagram); "y":
+                                  # the y axis alone (pressures of several stages)
     curve_zh: str = ""            # per-item curves named "<curve> n" ("Mode 1") instead of
     curve_en: str = ""            # "<quantity> — <item label> n"
     curves: int | None = None     # per-item curves: only the first n items (lowest modes)

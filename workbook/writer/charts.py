@@ -321,7 +321,10 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
             and kind == "scatter":
         low, high, major = x_q.chart_range
         x_axis.update({"min": low, "max": high, "major_unit": major})
-    if chart_spec.log:
+    if chart_spec.log == "y":
+        y_axis["log_base"] = 10
+        y_axis["crossing"] = "min"           # the x axis at the bottom, not at 1 MPa
+    elif chart_spec.log:
         x_axis["log_base"] = y_axis["log_base"] = 10
         x_axis["crossing"] = "min"
     size = dict(size or (EQUAL_AXES_SIZE if chart_spec.equal_axes else CHART_SIZE))
