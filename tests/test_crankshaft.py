@@ -208,3 +208,12 @@ def test_stroke_study_follows_the_kinematics_choice():
     assert np.array_equal(g["alt_piston_acceleration"], g["alt_piston_acceleration_exact"])
     g = crankbook.compute("thesis").series()
     assert np.array_equal(g["alt_piston_acceleration"], g["alt_piston_acceleration_series"])
+
+
+def test_the_crankshaft_inputs_stand_in_the_thesiss_order():
+    """§4.4.1 lists D1, L1, D2, L2, h, b: the Parameters sheet too, though the inputs
+    come from two libraries (the group's order in the template language)."""
+    from crankbook.spec.loader import load
+    keys = [p.key for p in load("engine").parameters if p.group == "crankshaft"]
+    assert keys[:6] == ["main_journal_diameter", "main_journal_length", "crankpin_diameter",
+                        "crankpin_length", "web_thickness", "web_width"]

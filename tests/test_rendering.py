@@ -558,3 +558,28 @@ def test_an_openpyxl_save_keeps_every_row_of_every_chart(tmp_path, soffice):
     assert values["q_angular_velocity"] == pytest.approx(3000 * np.pi / 30)
     status = openpyxl.load_workbook(after, data_only=True)["Parameters"]["B3"].value
     assert "grams typed for kg" in status, status
+
+
+def test_the_summary_names_the_cause_and_the_engine(tmp_path, soffice):
+    """With impossible inputs the Summary's first line is the Parameters status — the
+    broken rule in words and every further one by its key — not a consequence (the
+    Holzer grid found nothing); the key data give the cylinder count, the displacement
+    and the firing order, live."""
+    path = tmp_path / "i6.xlsx"
+    compute("inline-6", step=30.0).to_excel(path, lang="en")
+    book = openpyxl.load_workbook(path)
+    for name, value in (("p_rod_length", 10), ("p_bore", -5)):
+        sheet, cell = next(iter(book.defined_names[name].destinations))
+        book[sheet][cell.replace("$", "")] = value
+    book.save(tmp_path / "broken.xlsx")
+    fine, broken = recalc.convert([path, tmp_path / "broken.xlsx"], tmp_path / "lo")
+    line = openpyxl.load_workbook(broken, data_only=True)["Summary"]["A3"].value
+    assert line.startswith("✗ bore must be > 0"), line
+    assert "every broken rule" in line and "check_rod_long_enough" in line, line
+    assert "Holzer" not in line
+    summary = openpyxl.load_workbook(fine, data_only=True)["Summary"]
+    shown = {summary.cell(r, 1).value: summary.cell(r, 4).value for r in range(4, 24)}
+    assert shown["Number of cylinders Z"] == 6
+    assert shown["Engine displacement V = Z·πD²/4·S"] == pytest.approx(
+        6 * np.pi / 4 * 0.88 ** 2 * 1.0, rel=1e-12)                      # litres
+    assert shown[next(k for k in shown if k and k.startswith("Firing order"))] == "1-5-3-6-2-4"

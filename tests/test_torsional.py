@@ -170,12 +170,12 @@ def test_the_export_carries_the_system_and_harmonics_that_sum_to_the_engine(tmp_
     done = run_cli("export", "torsion", path, "-o", tmp_path / "tv")
     assert done.returncode == 0, done.stderr
     back = crankbook.read(path)
-    with open(tmp_path / "tv" / "stations.csv", newline="", encoding="utf-8") as f:
+    with open(tmp_path / "tv" / "stations.csv", newline="", encoding="utf-8-sig") as f:
         stations = list(csv.DictReader(f))
     assert [float(r["J [kg·m²]"]) for r in stations] == pytest.approx(
         list(back["station_inertia"]), rel=1e-12)
     assert stations[0]["name"] == "pulley" and stations[-1]["k to next [N·m/rad]"] == ""
-    with open(tmp_path / "tv" / "harmonics.csv", newline="", encoding="utf-8") as f:
+    with open(tmp_path / "tv" / "harmonics.csv", newline="", encoding="utf-8-sig") as f:
         harmonics = list(csv.DictReader(f))
     for k, amplitude in zip(back["torque_order"], back["engine_torque_amplitude"]):
         parts = [complex(float(r["a_k [N·m]"]), float(r["b_k [N·m]"])) for r in harmonics
@@ -183,8 +183,40 @@ def test_the_export_carries_the_system_and_harmonics_that_sum_to_the_engine(tmp_
         assert len(parts) == 8
         assert abs(sum(parts)) == pytest.approx(amplitude, rel=1e-6, abs=1e-6 * max(
             back["engine_torque_amplitude"]))
+    # the gas and inertia parts add up to the total; the inertia part is the inertia
+    # torque's harmonic at the speed the file states
+    assert {float(r["at speed [r/min]"]) for r in harmonics} == {back.parameters["speed"]}
+    for r in harmonics:
+        for part in ("a_k", "b_k"):
+            assert float(r[f"{part} gas [N·m]"]) + float(r[f"{part} inertia [N·m]"]) == \
+                pytest.approx(float(r[f"{part} [N·m]"]), abs=1e-9 * max(
+                    back["engine_torque_amplitude"]))
+    first = [r for r in harmonics if r["cylinder"] == "1"]
+    assert [float(r["a_k inertia [N·m]"]) for r in first] == pytest.approx(
+        list(back["cylinder_inertia_torque_cosine"]), abs=1e-9)
+    with open(tmp_path / "tv" / "harmonics.csv", "rb") as f:
+        assert f.read(3) == b"\xef\xbb\xbf"               # Excel reads the "·" right
+    assert "at 5000 r/min" in done.stdout
     done = run_cli("export", "torsion", tmp_path / "nothing.xlsx", "-o", tmp_path / "x")
     assert done.returncode == 2 and done.stderr.count("\n") == 1
+    done = run_cli("export", "torsion", path, "-o", tmp_path / "x.csv")
+    assert done.returncode == 2 and "give a folder name" in done.stderr
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_an_exported_trace_builds_the_engine_it_came_from(tmp_path):
+    """export trace writes a workbook's pressure in the format --pressure reads: built
+    from it, the engine's indicated power is the one the trace came from."""
+    import crankbook
+    from tests.conftest import run_cli
+    done = run_cli("export", "trace", "-o", tmp_path / "measured.csv")
+    assert done.returncode == 0, done.stderr
+    model = crankbook.compute("thesis")
+    measured = crankbook.compute("thesis", pressure=tmp_path / "measured.csv")
+    assert measured.scalars["indicated_power"] == pytest.approx(
+        model.scalars["indicated_power"], rel=1e-5)
+    done = run_cli("export", "trace", "-o", tmp_path / "measured.xlsx")
+    assert done.returncode == 2 and "must end in .csv" in done.stderr
 
 
 @pytest.mark.parametrize("preset", ["thesis", "inline-4", "inline-6", "v8-crossplane"])

@@ -136,14 +136,19 @@ def _build_parser():
 
     export = commands.add_parser(
         "export", help="write a workbook's data for another tool (torsion: stations.csv, "
-                       "harmonics.csv)",
+                       "harmonics.csv; trace: a pressure trace --pressure reads)",
         description="export torsion WORKBOOK -o DIR: the torsional system (station, J, k to "
                     "the next) and each cylinder's torque harmonics a_k, b_k in the common "
-                    "crank angle, read from an engine workbook's names as stored.")
-    export.add_argument("what", choices=("torsion",), help="what to export: torsion")
-    export.add_argument("workbook", metavar="WORKBOOK", help="an engine workbook crankbook wrote")
-    export.add_argument("-o", "--output", required=True, metavar="DIR",
-                        help="folder for stations.csv and harmonics.csv")
+                    "crank angle, total, gas and inertia parts, at the workbook's speed, "
+                    "read from an engine workbook's names as stored. export trace [WORKBOOK] "
+                    "-o FILE.csv: its cylinder pressure (without WORKBOOK: the thesis "
+                    "engine's) as a trace file for build --pressure.")
+    export.add_argument("what", choices=("torsion", "trace"), help="what to export")
+    export.add_argument("workbook", metavar="WORKBOOK", nargs="?",
+                        help="an engine workbook crankbook wrote (trace: optional)")
+    export.add_argument("-o", "--output", required=True, metavar="DIR|FILE.csv",
+                        help="torsion: the folder for stations.csv and harmonics.csv; "
+                             "trace: the .csv file")
 
     check = commands.add_parser(
         "check", help="for students: would the grader read this workbook in full?",
@@ -395,9 +400,20 @@ def _assign(args):
 
 def _export(args):
     import crankbook
-    from crankbook.writer.torsion_csv import write
-    write(crankbook.read(args.workbook), args.output)
-    print(f"wrote {args.output}/stations.csv and harmonics.csv")
+    from crankbook.writer.torsion_csv import write, write_trace
+    if args.what == "trace":
+        source = crankbook.read(args.workbook) if args.workbook else crankbook.compute("thesis")
+        path = write_trace(source, args.output)
+        print(f"wrote {path}: the cylinder pressure of "
+              f"{args.workbook or 'the thesis engine'} (crank angle °, MPa absolute)")
+        return 0
+    if not args.workbook:
+        raise BuildOptionError("export torsion needs the engine WORKBOOK to read")
+    results = crankbook.read(args.workbook)
+    write(results, args.output)
+    speed = results.parameters["speed"]
+    print(f"wrote {args.output}/stations.csv and harmonics.csv (the harmonics at "
+          f"{speed:g} r/min; at another speed n the inertia part scales with (n/{speed:g})²)")
     return 0
 
 

@@ -23,6 +23,7 @@ PAGE_HEIGHT_PT = 595 - 72  # A4 landscape less the margins
 PORTRAIT_WIDTH_PX = 716    # A4 portrait less the margins, at 96 dpi
 PORTRAIT_HEIGHT_PT = 842 - 72
 ROW_POINTS = 15            # a row of numbers
+CONTINUED = {"zh": "（续 / continued）", "en": "(continued / 续)"}
 NOTE = {"zh": "各计算表的列（公式引用各表），每 {step} 一行；各表的完整数据与图表见各表，图表另见“图表”表。",
         "en": "The columns of the quantity sheets (formulas on them), one row every {step}; "
               "each sheet holds its full table and charts, and the Charts sheet the charts."}
@@ -78,8 +79,8 @@ def write_report_sheet(book, layout, results, styles):
     if not grids:
         return None
     ws = book.add_worksheet(layout.sheet_name["report"])
-    ws.write(0, 0, f"{FIXED_SHEETS['report'][lang]} / {FIXED_SHEETS['report'][layout.other]}",
-             styles.title)
+    title = f"{FIXED_SHEETS['report'][lang]} / {FIXED_SHEETS['report'][layout.other]}"
+    ws.write(0, 0, title, styles.title)
     row, widest, tallest, notes, blocks = 1, 0, 0, [], []
     for grid in grids:
         columns = _columns(layout, grid)
@@ -125,7 +126,12 @@ def write_report_sheet(book, layout, results, styles):
     scale = _scale(tallest, height)
     capacity = _capacity(width, scale)
     per_page = math.ceil(widest / math.ceil(widest / capacity))    # pages alike
-    ws.set_v_pagebreaks(list(range(1 + per_page, widest + 1, per_page)))
+    breaks = list(range(1 + per_page, widest + 1, per_page))
+    ws.set_v_pagebreaks(breaks)
+    # a page to the right repeats column A only, where the title is cut at its edge:
+    # each such page starts with the whole title again
+    for column in breaks:
+        ws.write(0, column, f"{title} {CONTINUED[lang]}", styles.title)
     ws.set_h_pagebreaks(_blocks_kept_whole(blocks, scale, height))
     # the notes wrap across the first page's columns (a page wide even when the table
     # is narrower), so neither they nor the title are cut at the print area's edge

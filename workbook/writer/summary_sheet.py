@@ -18,6 +18,17 @@ def _labels(ws, row, item, layout, styles):
                             1: (label(item, layout.other), WIDTHS[1])}, styles.text)
 
 
+def _joined(layout, item, values):
+    """A per-item result in the key data as one text, its items joined by "-" (the
+    firing order 1-5-3-6-2-4): the live formula and its value."""
+    name = layout.locator.name(item.key)
+    most = layout.spec.axis[item.items].max
+    parts = [f"INDEX({name},1)"] + [f'IF(COUNT({name})>={n},"-"&INDEX({name},{n}),"")'
+                                     for n in range(2, most + 1)]
+    text = "-".join(f"{float(v):g}" for v in values)
+    return "=" + "&".join(parts), text
+
+
 def _write_status_line(ws, layout, values, results, styles):
     """One live line under the title: with inputs that break a rule, the Parameters
     status itself (the broken rule in words, then every further one by name) — not a
@@ -62,6 +73,10 @@ def write_summary_sheet(book, layout, values, results, styles):
             _labels(ws, row + offset, item, layout, styles)
             ws.write(row + offset, 2, unit_text(item.unit), styles.top)
             value = values[key] if key in spec.parameter else results[key]
+            if getattr(item, "items", None):        # one value per item: "1-5-3-6-2-4"
+                formula, text = _joined(layout, item, value)
+                ws.write_formula(row + offset, 3, formula, styles.text, text)
+                continue
             ws.write_formula(row + offset, 3, f"={layout.locator.name(key)}",
                              styles.number(item.unit, getattr(item, "format", None)),
                              cached(value))
