@@ -94,6 +94,7 @@ WORKBOOKS = {
                                          "stage_clearance_length=1", "--set", "stage_column=1"]},
     "compressor_edited": {"edit_of": "compressor",
                           "edits": {"speed": 1200.0, "ambient_pressure": 0.1,
+                                    "stage_suction_pressure": [0.1, 0.5, 3.0],
                                     "stage_discharge_pressure": [0.5, 3.0, 18.0],
                                     "column_phase": [0.0, 90.0], "friction_coefficient": 0.6,
                                     "check_throw": 1.0, "crankpin_bore": 20.0,

@@ -8,7 +8,9 @@ first order through each calc function (one argument at a time).  So a mean
 torque that is zero up to rounding agrees when the spreadsheet's rounding gives
 3e-14 instead of 1e-14, because its floor comes from the torque it averages.
 Discrete results (the crank angle of an extreme, a segment number) must agree
-exactly: their floor is zero.
+exactly: their floor is zero.  A cell whose floor is infinite — a ratio of two
+numbers that are 0 up to rounding, such as the stroke study's change of the powers of
+a constant-pressure trace — is determined by no input, and agrees whatever it holds.
 """
 import math
 from dataclasses import dataclass
@@ -133,8 +135,11 @@ def compare_values(name, unit, want, got, floor):
     if got.shape != want.shape:
         return Comparison(name, unit, math.inf, 0.0, math.inf, want.size, 0, shape_ok=False)
     allowed = allowances(want, floor)
+    # an infinite floor: the cell is a ratio of rounding noise (the change of two
+    # powers that are 0 up to rounding), which no input determines — any value agrees
+    undetermined = np.isinf(allowed)
     both_blank = np.isnan(want) & np.isnan(got)
-    error = np.where(both_blank, 0.0, np.abs(got - want))
+    error = np.where(both_blank | undetermined, 0.0, np.abs(got - want))
     error = np.where(np.isnan(error), math.inf, error)
     ratios = error / allowed
     worst = int(np.argmax(ratios)) if ratios.size else 0
