@@ -267,3 +267,61 @@ def test_environment_functions_in_answers_are_shown_as_typed(pack, tmp_path, sof
     assert "crankbook-" not in feedback and "/tmp" not in feedback
     assert not re.search(r"\b(Linux|LINUX|pcdos|mac)\b", feedback)
     assert 'CELL("filename")' in feedback
+
+
+# ---------------------------------------------- no folder crankbook did not write
+def _refused(code, err, *words):
+    assert code == 2 and err.count("\n") == 1 and "Traceback" not in err, err
+    for word in words:
+        assert word in err, err
+
+
+def test_grade_replaces_only_a_folder_it_wrote(pack, tmp_path, capsys):
+    """`grade -o` replaced whatever folder it was given: the class folder with its keys
+    and seed, a teacher's own notes.  An existing folder is replaced only when it
+    carries the marker of an earlier grade into it; an input is never an output."""
+    subs = tmp_path / "subs"
+    fill(pack / "students" / "s001.xlsx", subs / "s001.xlsx", key_answers(pack, "s001"))
+    notes = tmp_path / "notes"
+    notes.mkdir()
+    (notes / "mine.txt").write_text("the teacher's own file")
+    code, _, err = run(capsys, "grade", pack, subs, "-o", notes)
+    _refused(code, err, "was not written by crankbook grade")
+    assert (notes / "mine.txt").read_text() == "the teacher's own file"
+    for target, words in ((pack, "an input of this run"), (subs, "an input of this run"),
+                          (pack / "keys", "an input of this run"),
+                          (tmp_path, "an input of this run"),        # contains the inputs
+                          (subs / "results", "an input of this run"),
+                          (".", "current folder"), ("..", "current folder"),
+                          ("/", "current folder")):
+        code, _, err = run(capsys, "grade", pack, subs, "-o", target)
+        _refused(code, err, *([words] if words else []))
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r", "--return", subs / "back")
+    _refused(code, err, "--return", "an input of this run")
+    assert sorted(p.name for p in (pack / "keys").iterdir())          # the keys stand
+    umask = os.umask(0)
+    os.umask(umask)
+    for _ in range(2):                  # its own earlier output: replaced, with the umask
+        code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r")
+        assert code == 0, err
+        assert (tmp_path / "r" / ".crankbook-output").read_text().strip() == "grade"
+        assert (tmp_path / "r").stat().st_mode & 0o777 == 0o777 & ~umask
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "b", "--return",
+                       tmp_path / "r")
+    _refused(code, err, "--return", "not written by crankbook grade --return")
+
+
+def test_export_replaces_only_its_own_folder(tmp_path, capsys):
+    import crankbook
+    path = crankbook.compute("inline-4", step=30.0).to_excel(tmp_path / "i4.xlsx")
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "keep.csv").write_text("x")
+    code, _, err = run(capsys, "export", "torsion", path, "-o", mine)
+    _refused(code, err, "was not written by crankbook export torsion")
+    assert (mine / "keep.csv").read_text() == "x"
+    code, _, err = run(capsys, "export", "torsion", path, "-o", tmp_path)
+    _refused(code, err, "an input of this run")
+    for _ in range(2):
+        code, _, err = run(capsys, "export", "torsion", path, "-o", tmp_path / "tv")
+        assert code == 0, err

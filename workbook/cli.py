@@ -410,7 +410,7 @@ def _export(args):
     if not args.workbook:
         raise BuildOptionError("export torsion needs the engine WORKBOOK to read")
     results = crankbook.read(args.workbook)
-    write(results, args.output)
+    write(results, args.output, source=args.workbook)
     speed = results.parameters["speed"]
     print(f"wrote {args.output}/stations.csv and harmonics.csv (the harmonics at "
           f"{speed:g} r/min; at another speed n the inertia part scales with (n/{speed:g})²)")

@@ -26,7 +26,8 @@ from crankbook.assignment.scoring import (answer_in, answer_number, pair_positio
 from crankbook.assignment.submissions import discover, prepare, read, recalculate
 from crankbook.errors import AssignmentDirError, CrankbookError
 from crankbook.support.progress import steps
-from crankbook.support.workspace import check_directory, lock, staged_directory, sweep_temporary
+from crankbook.support.workspace import (check_output_folder, lock, staged_directory,
+                                         sweep_temporary)
 
 KEEP = ("latest", "best")
 
@@ -218,8 +219,13 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
     root = Path(submissions)
     if not root.is_dir():
         raise CrankbookError(f"{root}: no such folder of submissions")
-    output = check_directory(output if output is not None else Path(directory) / "results")
-    returns = check_directory(returns) if returns is not None else None
+    output = output if output is not None else Path(directory) / "results"
+    inputs = [(directory, True), (Path(directory) / "students", False),
+              (Path(directory) / "keys", False), (root, False), (overrides, False),
+              (lms_template, False), (previous, False)]
+    output = check_output_folder(output, "grade", inputs)
+    returns = check_output_folder(returns, "grade --return", [*inputs, (output, False)],
+                                  "--return") if returns is not None else None
     with lock(output):                 # a second run into the same results is refused now
         return _grade(assignment, roster, lang, spec, preset, root, output, feedback,
                       previous, keep, missing_as_zero, progress, returns,
@@ -335,7 +341,7 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
                                         earlier_suspicions)
     apply_overrides(grades, options.decisions, assignment)
     unmatched = [s for s in subs if s.student_id not in grades]
-    with staged_directory(output, replace=True) as staging:
+    with staged_directory(output, replace=True, command="grade") as staging:
         write_results(staging, assignment, spec, lang, list(grades.values()), unmatched,
                       feedback=feedback, missing_as_zero=missing_as_zero,
                       suspicions=suspicions)
@@ -343,7 +349,7 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
                           list(grades.values()), feedback, missing_as_zero)
     if returns is not None:
         from crankbook.assignment.annotate import write_returns
-        with staged_directory(returns, replace=True) as staging:
+        with staged_directory(returns, replace=True, command="grade --return") as staging:
             write_returns(staging, assignment, lang, list(grades.values()),
                           # a grade kept from an earlier round is not this file's
                           {sid: sub for sid, sub in chosen.items()

@@ -127,18 +127,68 @@ def check_directory(target, option="-o"):
     return target
 
 
+OUTPUT_MARKER = ".crankbook-output"     # inside a folder crankbook wrote: the command
+
+
+def _inside(path, folder):
+    return path == folder or folder in path.parents
+
+
+def check_output_folder(target, command, protected=(), option="-o"):
+    """Refuse, before any work, an output folder that a replacing command must not
+    touch: the root, a mount point, the current directory or one of its parents; a
+    folder that is, contains or (for ``protected`` entries marked so) lies inside an
+    input — ``protected`` is ``(path, may_lie_inside)`` pairs; an existing folder
+    without the marker of an earlier output of the same ``command`` (crankbook
+    replaces only what it wrote).  Returns the checked path."""
+    target = check_directory(target, option)
+    where = Path(os.path.abspath(target))
+    here = Path(os.path.abspath(Path.cwd()))
+    if where == Path(where.anchor) or os.path.ismount(where) or _inside(here, where):
+        raise BuildOptionError(f"{option} {target}: is the current folder, one of its parents "
+                               f"or a mount point; give a folder of its own")
+    for path, may_lie_inside in protected:
+        if path is None:
+            continue
+        guarded = Path(os.path.abspath(path))
+        if _inside(guarded, where) or (not may_lie_inside and _inside(where, guarded)):
+            raise BuildOptionError(f"{option} {target}: would replace or write into {path}, "
+                                   f"an input of this run; give another folder")
+    if where.is_symlink():
+        raise BuildOptionError(f"{option} {target}: is a link; give a folder of its own")
+    if where.exists() and not where.is_dir():
+        raise BuildOptionError(f"{option} {target}: is a file; give a folder")
+    if where.is_dir() and any(where.iterdir()):
+        marker = where / OUTPUT_MARKER
+        try:
+            written_by = marker.read_text(encoding="utf-8").strip() \
+                if marker.is_file() and not marker.is_symlink() else None
+        except (OSError, UnicodeDecodeError):
+            written_by = None
+        if written_by != command:
+            raise BuildOptionError(f"{option} {target}: exists and was not written by "
+                                   f"crankbook {command} (no {OUTPUT_MARKER} of it); give a new "
+                                   f"folder, or empty this one yourself")
+    return target
+
+
 @contextmanager
-def staged_directory(target, replace=False):
+def staged_directory(target, replace=False, command=None):
     """Yield a hidden directory beside ``target``; on success it becomes ``target``.
 
-    ``replace``: an existing ``target`` is replaced (after the new one is complete);
-    otherwise an existing non-empty ``target`` is refused.
+    ``replace``: an existing ``target`` is replaced (after the new one is complete) —
+    only one that carries the marker of an earlier output of ``command`` (checked
+    again here; callers check it before their work with :func:`check_output_folder`);
+    otherwise an existing non-empty ``target`` is refused.  The new folder gets the
+    marker and the user's umask (a scratch folder is private until renamed).
     """
     target = check_directory(target)
     if target.exists() and not target.is_dir():
         raise BuildOptionError(f"-o {target}: is a file; give a directory")
     if target.exists() and not replace and any(target.iterdir()):
         raise BuildOptionError(f"-o {target}: exists and is not empty; give a new directory")
+    if replace:
+        check_output_folder(target, command)
     with lock(target):
         parent = target.parent if str(target.parent) else Path(".")
         try:
@@ -148,6 +198,11 @@ def staged_directory(target, replace=False):
             raise BuildOptionError(f"-o {target}: cannot write there ({error.strerror})") \
                 from None
         try:
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(staging, 0o777 & ~umask)
+            if command:
+                (staging / OUTPUT_MARKER).write_text(command + "\n", encoding="utf-8")
             yield staging
             old = None
             if target.exists():

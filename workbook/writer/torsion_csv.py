@@ -24,7 +24,7 @@ import numpy as np
 from crankbook.support.atomic import atomic_path
 from crankbook.support.csv_safety import csv_text
 from crankbook.errors import BuildOptionError
-from crankbook.support.workspace import staged_directory
+from crankbook.support.workspace import check_output_folder, staged_directory
 
 ENCODING = "utf-8-sig"
 FILE_SUFFIXES = (".csv", ".xlsx", ".txt", ".json")
@@ -83,10 +83,12 @@ def _folder(directory):
     return directory
 
 
-def write(results, directory):
-    """Write stations.csv and harmonics.csv into ``directory`` (replaced whole)."""
+def write(results, directory, source=None):
+    """Write stations.csv and harmonics.csv into ``directory`` (replaced whole, if an
+    earlier export wrote it; ``source``, the workbook read, is never inside it)."""
     stations, harmonics = rows(results)
-    with staged_directory(_folder(directory), replace=True) as staging:
+    check_output_folder(_folder(directory), "export torsion", [(source, False)])
+    with staged_directory(directory, replace=True, command="export torsion") as staging:
         (staging / "stations.csv").write_text(csv_text(stations), encoding=ENCODING,
                                               newline="")
         (staging / "harmonics.csv").write_text(csv_text(harmonics), encoding=ENCODING,
