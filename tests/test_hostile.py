@@ -177,17 +177,65 @@ def test_a_stream_of_tiny_elements_is_refused_within_memory(tmp_path):
 
 
 # ------------------------------------------------------- nothing left behind
-def test_the_next_run_removes_a_killed_runs_engine_and_copies(tmp_path):
+def _gone_pid():
     gone = subprocess.Popen([sys.executable, "-c", "pass"])
     gone.wait()
-    scratch = tmp_path / f"crankbook-grade-{gone.pid}-abc"
-    scratch.mkdir()
+    return gone.pid
+
+
+def _engine_on(folder):
+    """A stand-in engine started on ``folder`` (its path in the command line, as
+    LibreOffice's profile is), in its own process group."""
+    return subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)", str(folder)],
+                            start_new_session=True)
+
+
+def test_the_next_run_removes_a_killed_runs_engine_and_copies(tmp_path):
+    scratch = tmp_path / f"crankbook-grade-{_gone_pid()}-abc"
+    scratch.mkdir(mode=0o700)
     (scratch / "00001.xlsx").write_bytes(b"a student's workbook")
-    engine = subprocess.Popen(["sleep", "60"], start_new_session=True)
+    engine = _engine_on(scratch)
     (scratch / "engine.pgid").write_text(str(engine.pid))
+    time.sleep(0.3)                                # its command line is in /proc
     assert sweep_temporary(tmp_path) == 1
     assert not scratch.exists()
     assert engine.wait(timeout=10) == -signal.SIGKILL
+
+
+def test_a_planted_record_kills_nothing_and_hangs_nothing(tmp_path):
+    """Anyone could write a scratch folder's engine record in a shared temp folder: a
+    record naming a process group that is not an engine started on that folder (a
+    teacher's editor, another user's run) is not signalled; a FIFO, a link or a huge
+    file in its place is passed over; a folder open to others is not touched; and
+    crankbook's own scratch folders live in a private folder of the user's."""
+    from crankbook.support.workspace import scratch_root
+    bystander = subprocess.Popen(["sleep", "60"], start_new_session=True)
+    try:
+        planted = []
+        for how in ("names", "fifo", "link", "huge"):
+            scratch = tmp_path / f"crankbook-lo-{_gone_pid()}-{how}"
+            scratch.mkdir(mode=0o700)
+            record = scratch / "engine.pgid"
+            if how == "names":
+                record.write_text(str(bystander.pid))
+            elif how == "fifo":
+                os.mkfifo(record)
+            elif how == "link":
+                (tmp_path / "elsewhere").write_text(str(bystander.pid))
+                record.symlink_to(tmp_path / "elsewhere")
+            else:
+                record.write_text(str(bystander.pid) + " " * 10_000_000)
+            planted.append(scratch)
+        shared = tmp_path / f"crankbook-lo-{_gone_pid()}-open"
+        shared.mkdir(mode=0o777)
+        os.chmod(shared, 0o777)
+        assert sweep_temporary(tmp_path) == len(planted)
+        assert bystander.poll() is None                      # alive: never signalled
+        assert shared.exists()                               # not ours to remove
+        root = scratch_root()
+        assert root.stat().st_mode & 0o777 == 0o700 and root.stat().st_uid == os.getuid()
+    finally:
+        bystander.kill()
 
 
 def test_a_second_run_into_the_same_output_is_refused(tmp_path):

@@ -8,7 +8,9 @@ and home directory, removed afterwards whatever happened.
 """
 import os
 import shutil
+import signal
 import subprocess
+import sys
 from pathlib import Path
 
 from crankbook.errors import RecalculationError
@@ -54,10 +56,25 @@ def make_profile(directory):
     return Path(directory).resolve().as_uri()
 
 
+def _die_with_parent():
+    """In the engine's process, before it starts: on Linux, SIGKILL it when crankbook
+    dies, however crankbook dies (prctl PR_SET_PDEATHSIG); its own children are then
+    reaped by the next run through the scratch folder's record."""
+    try:
+        import ctypes
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)     # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
 def _run(command, timeout, home):
-    """Run ``command`` in its own process group; kill the whole group on timeout."""
+    """Run ``command`` in its own process group; kill the whole group on timeout.  Its
+    HOME and TMPDIR are the scratch folder ``home``, so what the engine leaves (its
+    profile, LibreOffice's lu*.tmp) goes with the folder."""
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env={**os.environ, "HOME": home}, start_new_session=True)
+                               env={**os.environ, "HOME": home, "TMPDIR": home},
+                               start_new_session=True,
+                               preexec_fn=_die_with_parent if sys.platform == "linux" else None)
     record_engine(home, process.pid)      # a killed run's engine: the next run ends it
     try:
         out, err = process.communicate(timeout=timeout)

@@ -224,12 +224,45 @@ def temporary_name(path):
 
 ENGINE_GROUP = "engine.pgid"          # a scratch folder's record of its engine process group
 SCRATCH = re.compile(r"crankbook-[a-z]+-(\d+)-")
+RECORD_BYTES = 32                     # a process group id: anything longer is not ours
+
+
+def _private(folder):
+    """True when ``folder`` is a real directory of this user that no one else can
+    enter (mode 0700 or stricter)."""
+    try:
+        info = os.lstat(folder)
+    except OSError:
+        return False
+    import stat
+    return stat.S_ISDIR(info.st_mode) and info.st_uid == os.getuid() and \
+        not info.st_mode & 0o077
+
+
+def scratch_root():
+    """This user's private folder for crankbook's scratch folders, in TMPDIR:
+    ``crankbook-<uid>`` with mode 0700.  Another user cannot plant anything in it;
+    one that was planted under its name (another owner, a link, open to others) is
+    never used — the run then takes a fresh private folder of its own."""
+    base = Path(tempfile.gettempdir())
+    root = base / f"crankbook-{os.getuid()}"
+    try:
+        root.mkdir(mode=0o700)
+    except FileExistsError:
+        pass
+    except OSError:
+        return Path(tempfile.mkdtemp(prefix=f"crankbook-{os.getuid()}-", dir=base))
+    if not _private(root):
+        return Path(tempfile.mkdtemp(prefix=f"crankbook-{os.getuid()}-", dir=base))
+    return root
 
 
 def temporary_directory(kind, directory=None):
-    """A scratch folder ``crankbook-<kind>-<pid>-…`` removed when the block ends (and
-    by the next run's :func:`sweep_temporary` when this process is killed first)."""
-    return tempfile.TemporaryDirectory(prefix=f"crankbook-{kind}-{os.getpid()}-", dir=directory)
+    """A scratch folder ``crankbook-<kind>-<pid>-…`` (in this user's private
+    :func:`scratch_root` unless ``directory`` is given) removed when the block ends
+    (and by the next run's :func:`sweep_temporary` when this process is killed first)."""
+    return tempfile.TemporaryDirectory(prefix=f"crankbook-{kind}-{os.getpid()}-",
+                                       dir=directory or scratch_root())
 
 
 def record_engine(folder, process_group):
@@ -240,26 +273,78 @@ def record_engine(folder, process_group):
         pass
 
 
+def _recorded_group(record):
+    """The process group a record names, read without following a link, blocking on a
+    pipe or reading more than a few bytes; None for anything else."""
+    try:
+        descriptor = os.open(record, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0)
+                             | getattr(os, "O_NONBLOCK", 0))
+    except OSError:
+        return None
+    try:
+        import stat
+        if not stat.S_ISREG(os.fstat(descriptor).st_mode):
+            return None
+        text = os.read(descriptor, RECORD_BYTES + 1)
+    except OSError:
+        return None
+    finally:
+        os.close(descriptor)
+    text = text.decode("ascii", "replace").strip()
+    return int(text) if len(text) <= RECORD_BYTES and text.isdigit() and int(text) > 1 else None
+
+
+def _our_engine(group, folder):
+    """True when process group ``group`` is alive and every process in it is this
+    user's and was started on scratch ``folder`` (its path is in the command line, as
+    LibreOffice's profile and Gnumeric's files are): a stale or planted record never
+    names someone else's processes.  Without /proc (not Linux) nothing is known, so
+    nothing is signalled."""
+    proc, members = Path("/proc"), 0
+    if not proc.is_dir():
+        return False
+    for entry in proc.iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            if int(fields[2]) != group:
+                continue
+            if entry.stat().st_uid != os.getuid():
+                return False
+            command = (entry / "cmdline").read_bytes().replace(b"\0", b" ")
+        except (OSError, ValueError, IndexError):
+            continue
+        members += 1
+        if str(folder).encode() not in command:
+            return False
+    return members > 0
+
+
 def sweep_temporary(directory=None):
     """Remove the scratch folders of crankbook runs that are gone — killing first any
-    spreadsheet engine they left running — and return how many were removed."""
+    spreadsheet engine they left running, when it is provably theirs — and return how
+    many were removed.  Only this user's own folders of the private scratch root are
+    touched."""
     removed = 0
-    root = Path(directory or tempfile.gettempdir())
+    root = Path(directory or scratch_root())
     try:
         entries = list(root.iterdir())
     except OSError:
         return 0
     for entry in entries:
         match = SCRATCH.match(entry.name)
-        if not match or not entry.is_dir() or entry.is_symlink():
+        if not match or not _private(entry):
             continue
         pid = int(match.group(1))
         if pid == os.getpid() or alive(pid):
             continue
-        for record in entry.rglob(ENGINE_GROUP):
+        record = entry / ENGINE_GROUP
+        group = _recorded_group(record)
+        if group is not None and _our_engine(group, entry):
             try:
-                os.killpg(int(record.read_text().strip()), signal.SIGKILL)
-            except (OSError, ValueError):
+                os.killpg(group, signal.SIGKILL)
+            except OSError:
                 pass
         shutil.rmtree(entry, ignore_errors=True)
         removed += 1
