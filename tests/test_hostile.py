@@ -258,6 +258,14 @@ def test_a_second_run_into_the_same_output_is_refused(tmp_path):
     (["build", "--nosuch"], "unrecognized arguments"),
     (["build", "--set", "bore=2000.0000001"], "2000.0000001: must be"),
     (["build", "--set", "bore=" + "9" * 400], "…"),
+    # option numbers take --set's syntax: what Python's float() would take is refused
+    (["build", "--step", "1_0"], "not a plain decimal number"),
+    (["build", "--step", "nan"], "not a plain decimal number"),
+    (["build", "--cam-step", "１"], "not a plain decimal number"),
+    (["assign", "--roster", "{roster}", "--seed", "１２", "-o", "c"], "not a whole number"),
+    (["assign", "--roster", "{roster}", "--seed", "-5", "-o", "c"], "not a whole number"),
+    (["grade", "{pack}", "{subs}", "--out-of", "inf"], "not a plain decimal number"),
+    (["grade", "{pack}", "{subs}", "--out-of", "-20"], "must be a number > 0"),
 ])
 def test_teacher_side_mistakes_get_one_line(pack, tmp_path, args, words):
     roster = tmp_path / "roster.csv"
@@ -296,6 +304,54 @@ def test_damaged_teacher_files_get_one_line(pack, tmp_path):
     done = run_cli("build", "--pressure", trace, "-o", tmp_path / "t.xlsx")
     assert done.returncode == 2 and "not a readable CSV" in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("points,words", [("1_000", "not a plain decimal number"),
+                                          ("２", "not a plain decimal number"),
+                                          ("nan", "not a plain decimal number"),
+                                          ("-1", "must lie in [0,"),
+                                          ("1000", "must lie in [0,")])
+def test_an_override_cannot_give_what_the_item_does_not_have(pack, tmp_path, points, words):
+    from crankbook.assignment.grade import load_directory
+    _, assignment, _ = load_directory(pack)
+    key = assignment.items[0].key
+    table = tmp_path / "overrides.csv"
+    table.write_text("student,item,action,points,reason,who\n"
+                     f"s001,a_{key},points,{points},agreed,teacher\n", encoding="utf-8")
+    subs = tmp_path / "subs"
+    subs.mkdir()
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "r", "--overrides", table)
+    assert done.returncode == 2 and words in done.stderr and "row 2" in done.stderr, done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("damage", ["nan", "infinity", "deep", "word", "points"])
+def test_a_damaged_earlier_round_is_refused_in_one_line(pack, tmp_path, damage):
+    import json
+    subs = tmp_path / "subs"
+    fill(pack / "students" / "s001.xlsx", subs / "s001.xlsx", key_answers(pack, "s001"))
+    assert run_cli("grade", pack, subs, "-o", tmp_path / "r1").returncode == 0
+    path = tmp_path / "r1" / "grades.json"
+    data = json.loads(path.read_text(encoding="utf-8"))
+    graded = next(s for s in data["students"] if s["status"] == "graded")
+    key = next(iter(graded["items"]))
+    if damage == "nan":
+        text = json.dumps(data).replace(json.dumps(graded["items"][key][0]), "NaN", 1)
+    elif damage == "infinity":
+        graded["items"][key][0] = 1e400
+        text = json.dumps(data)
+    elif damage == "deep":
+        text = json.dumps(data)[:-1] + ', "x": ' + "[" * 100_000 + "]" * 100_000 + "}"
+    elif damage == "word":
+        graded["notes"].append(["import os", {}, False])
+        text = json.dumps(data)
+    else:
+        graded["items"][key][0] = 1e6
+        text = json.dumps(data)
+    path.write_text(text, encoding="utf-8")
+    done = run_cli("grade", pack, subs, "-o", tmp_path / "r2", "--previous", tmp_path / "r1")
+    assert done.returncode == 2 and "is damaged" in done.stderr, done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and "Traceback" not in done.stderr
 
 
 # ------------------------------------------------- no machine in feedback

@@ -32,6 +32,31 @@ def _one_line(message):
     return re.sub(r"\S{81,}", lambda m: m.group(0)[:60] + "…" + m.group(0)[-12:], message)[:600]
 
 
+def _plain_number(text):
+    """A number option as --set reads one: ASCII decimals only (not 1_000, １２, nan or
+    inf, which Python's float() would take)."""
+    from crankbook.spec.params import NUMBER
+    stripped = text.strip()
+    if not NUMBER.match(stripped):
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a plain decimal number")
+    return float(stripped)
+
+
+def _plain_positive(text):
+    value = _plain_number(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} must be a number > 0")
+    return value
+
+
+def _plain_whole(text):
+    stripped = text.strip()
+    if not stripped.isascii() or not stripped.isdigit():
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a whole number of ASCII "
+                                         f"digits")
+    return int(stripped)
+
+
 def _build_parser():
     parser = _Parser(
         prog="crankbook",
@@ -58,9 +83,9 @@ def _build_parser():
     build.add_argument("--lang", choices=LANGS, default="zh",
                        help="language of sheet names, titles and charts (default: zh); "
                             "labels are bilingual either way")
-    build.add_argument("--step", type=float, default=None, metavar="DEG",
+    build.add_argument("--step", type=_plain_number, default=None, metavar="DEG",
                        help="crank-angle grid step in degrees, dividing the cycle (default: 1)")
-    build.add_argument("--cam-step", type=float, default=None, metavar="DEG",
+    build.add_argument("--cam-step", type=_plain_number, default=None, metavar="DEG",
                        help="cam-angle grid step in degrees of the course design's cams "
                             "(default: 1)")
     build.add_argument("-o", "--output", metavar="PATH",
@@ -112,7 +137,7 @@ def _build_parser():
                         help="the class list: .csv (UTF-8, GBK or UTF-16, as Excel saves it) or "
                              ".xlsx, with an id column (student_id, id or 学号) and a name "
                              "column (name or 姓名); other columns are kept")
-    assign.add_argument("--seed", type=int, default=None,
+    assign.add_argument("--seed", type=_plain_whole, default=None,
                         help="variant seed: with it and a student's id anyone who has "
                              "crankbook draws that student's key, so keep it secret (default: "
                              "a random 18-digit seed, kept in DIR/assignment.json; give it "
@@ -191,7 +216,7 @@ def _build_parser():
     grade.add_argument("--items", metavar="KEYS",
                        help="grade only these items (comma-separated a_ keys), e.g. this "
                             "week's part of the pack")
-    grade.add_argument("--out-of", type=float, metavar="POINTS",
+    grade.add_argument("--out-of", type=_plain_positive, metavar="POINTS",
                        help="scale every item so that the total is POINTS (a course weight)")
     grade.add_argument("--lms", choices=("generic", "moodle", "canvas", "xuexitong"),
                        default="generic",

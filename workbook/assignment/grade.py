@@ -212,7 +212,8 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
     settings, whole, roster = load_directory(directory)
     assignment = part_of(whole, items, out_of)
     decisions = read_overrides(overrides, {r["student_id"] for r in roster},
-                               set(assignment.item)) if overrides else []
+                               {k: i.points for k, i in assignment.item.items()}) \
+        if overrides else []
     exports.check_lms(lms, lms_template)
     lang = settings.get("lang", "zh")
     spec, _, preset = params.load_preset(settings["preset"])

@@ -19,6 +19,7 @@ from dataclasses import dataclass, replace
 
 from crankbook.assignment.roster import excel_text
 from crankbook.errors import CrankbookError
+from crankbook.spec.params import NUMBER
 from crankbook.support.paths import require_file
 
 ACTIONS = ("accept", "points", "waive-flag")
@@ -47,8 +48,10 @@ class Override:
         return f"{self.action} {target or '*'}{amount} ({self.who}: {self.reason})"
 
 
-def read_overrides(path, roster_ids, item_keys):
-    """The Overrides of ``path``, every row checked against the roster and the items."""
+def read_overrides(path, roster_ids, item_points):
+    """The Overrides of ``path``, every row checked against the roster and the items
+    (``item_points``: item key -> its points; a row's points lie in [0, those])."""
+    item_keys = set(item_points)
     require_file(path, OverridesError, "overrides")
     try:
         raw = open(path, "rb").read(2_000_000)
@@ -80,11 +83,14 @@ def read_overrides(path, roster_ids, item_keys):
                                      f"this assignment (a_<key>, optionally !row)")
             item = item[2:]
         if cells["action"] == "points":
-            try:
-                points = float(cells["points"])
-            except ValueError:
-                raise OverridesError(f"{where}: points {cells['points']!r} is not a "
-                                     f"number") from None
+            text = cells["points"]
+            if not NUMBER.match(text):            # not 1_000, １２, nan or inf
+                raise OverridesError(f"{where}: points {text[:30]!r} is not a plain "
+                                     f"decimal number")
+            points = float(text)
+            if not 0 <= points <= item_points[item]:
+                raise OverridesError(f"{where}: points {text} must lie in [0, "
+                                     f"{item_points[item]:g}], the item's points")
             if cell:
                 raise OverridesError(f"{where}: points are set for a whole item, not a cell")
         out.append(Override(number, cells["student"], item, cell, cells["action"], points,

@@ -58,18 +58,42 @@ def load(previous, assignment):
     try:
         if path.stat().st_size > MAX_BYTES:
             raise ValueError("too large")
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(path.read_text(encoding="utf-8"), parse_constant=_no_constant)
         if data.get("assignment") != assignment.key:
             raise CrankbookError(f"--previous {previous}: graded another assignment "
                                  f"({str(data.get('assignment'))[:40]!r})")
-        grades = {g.student_id: g for g in map(_grade, data["students"])
+        grades = {g.student_id: _checked(g, assignment) for g in map(_grade, data["students"])
                   if g.status == "graded"}
         return grades, [_suspicion(entry) for entry in data.get("suspicions", [])]
     except CrankbookError:
         raise
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as error:
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError) as error:
         raise CrankbookError(f"--previous {previous}: its {FILE} is damaged "
                              f"({type(error).__name__})") from None
+
+
+def _no_constant(word):
+    """NaN, Infinity and -Infinity are not JSON: a grades.json holding them is damaged."""
+    raise ValueError(f"{word} is not a number of a grade")
+
+
+def _checked(g, assignment):
+    """A grade read back, refused (ValueError) where it could not have been written:
+    an item the assignment lacks, points outside [0, the item's], a fraction outside
+    [0, 1], a note whose words crankbook does not have."""
+    from crankbook.assignment.results import words
+    known = words("en")
+    for key, (points, cells) in g.items.items():
+        item = assignment.item.get(key)
+        if item is None:
+            raise ValueError(f"unknown item {key[:40]!r}")
+        if not (math.isfinite(points) and -1e-9 <= points <= item.points + 1e-9):
+            raise ValueError(f"points {points!r} of {key!r}")
+        if any(not 0 <= c.fraction <= 1 for c in cells):
+            raise ValueError(f"a fraction of {key!r}")
+    if any(word not in known for word, _, _ in g.notes):
+        raise ValueError("a note crankbook does not write")
+    return g
 
 
 def _grade(entry):
