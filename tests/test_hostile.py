@@ -429,3 +429,38 @@ def test_export_replaces_only_its_own_folder(tmp_path, capsys):
     for _ in range(2):
         code, _, err = run(capsys, "export", "torsion", path, "-o", tmp_path / "tv")
         assert code == 0, err
+
+
+# ------------------------------------------------------- student text is inert
+def test_student_text_is_inert_in_feedback_and_stored_as_typed(tmp_path, capsys):
+    """A roster name and a typed answer are shown as typed and do nothing: no HTML tag,
+    link or image reaches the Markdown feedback live; a name starting with '=' is kept
+    as the student wrote it in grades.json and escaped only in the CSV files."""
+    import json
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名\ns1,=HYPERLINK(\"http://x\")\ns2,<img src=x onerror=alert(1)>\n",
+                      encoding="utf-8")
+    code, _, err = run(capsys, "assign", "--roster", roster, "--seed", "3", "-o",
+                       tmp_path / "class")
+    assert code == 0, err
+    pack = tmp_path / "class"
+    subs = tmp_path / "subs"
+    for sid in ("s1", "s2"):
+        answers = key_answers(pack, sid)
+        first = next(iter(answers))
+        typed = dict(answers)
+        typed[first] = "![p](http://evil/x.png) [go](http://evil/)" if not isinstance(
+            answers[first], list) else ["![p](http://evil/x.png)"] + list(answers[first][1:])
+        fill(pack / "students" / f"{sid}.xlsx", subs / f"{sid}.xlsx", typed)
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r")
+    assert code == 0, err
+    for sid in ("s1", "s2"):
+        text = (tmp_path / "r" / "feedback" / f"{sid}.md").read_text(encoding="utf-8")
+        assert "<img" not in text and "&lt;img" in text or sid == "s1", text[:300]
+        assert not re.search(r"(?<!\\)\]\(|(?<!\\)!(?<!\\)\[", text), text[:600]
+        assert "\\!\\[p\\](http://evil/x.png)" in text        # shown as typed
+    stored = json.loads((tmp_path / "r" / "grades.json").read_text(encoding="utf-8"))
+    assert {s["name"] for s in stored["students"]} == {'=HYPERLINK("http://x")',
+                                                       "<img src=x onerror=alert(1)>"}
+    with open(tmp_path / "r" / "gradebook.csv", encoding="utf-8-sig") as handle:
+        assert '"=HYPERLINK' not in handle.read()             # no live formula in the CSV

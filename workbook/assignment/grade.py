@@ -26,6 +26,7 @@ from crankbook.assignment.scoring import (answer_in, answer_number, pair_positio
 from crankbook.assignment.submissions import discover, prepare, read, recalculate
 from crankbook.errors import AssignmentDirError, CrankbookError
 from crankbook.support.progress import steps
+from crankbook.support.csv_safety import as_typed
 from crankbook.support.workspace import (check_output_folder, lock, staged_directory,
                                          sweep_temporary)
 
@@ -74,7 +75,7 @@ def load_directory(directory):
         settings = json.loads((directory / SETTINGS).read_text(encoding="utf-8"))
         assignment = templates.load(settings["assignment"], directory / RUBRIC)
         with open(directory / MANIFEST, newline="", encoding="utf-8-sig") as handle:
-            roster = list(csv.DictReader(handle))
+            roster = [{k: as_typed(v) for k, v in row.items()} for row in csv.DictReader(handle)]
     except (OSError, ValueError, KeyError) as error:
         raise AssignmentDirError(f"{directory}: its {SETTINGS}, {RUBRIC} or {MANIFEST} is "
                                  f"damaged ({type(error).__name__})") from None

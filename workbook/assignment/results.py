@@ -255,9 +255,26 @@ def _clipped(parts, limit, more):
     return kept + more
 
 
+MARKDOWN_SIGNS = "\\`*_[]!#|~"       # a link, image, emphasis, code, cell or heading
+
+
+def inert(text):
+    """Text a student (or a roster) typed, made inert in Markdown: HTML escaped and
+    every sign that could start a link, an image, emphasis, a table cell or a heading
+    backslashed — it shows as typed and does nothing (the .html feedback escapes it
+    too)."""
+    import html
+    text = html.escape(str(text), quote=False)
+    return "".join("\\" + c if c in MARKDOWN_SIGNS else c for c in text)
+
+
+def _inert_fields(fields):
+    return {k: inert(v) if isinstance(v, str) else v for k, v in fields.items()}
+
+
 def feedback_text(g, assignment, lang, mode):
     w = words(lang)
-    lines = [f"# {say(w, 'title_feedback', assignment=assignment.name(lang), student_id=g.student_id, name=g.name)}",
+    lines = [f"# {say(w, 'title_feedback', assignment=assignment.name(lang), student_id=inert(g.student_id), name=inert(g.name))}",
              ""]
     if g.status != "graded":
         status = say(w, "status_missing") if g.status == "missing" else \
@@ -266,7 +283,7 @@ def feedback_text(g, assignment, lang, mode):
     lines += [say(w, "score", score=_points(g.score), max_score=_points(assignment.max_score)), ""]
     notes = student_notes(g)
     if notes:
-        lines += [w["notes_heading"], ""] + [f"- {say(w, word, **fields)}"
+        lines += [w["notes_heading"], ""] + [f"- {say(w, word, **_inert_fields(fields))}"
                                              for word, fields in notes]
         lines.append("")
     for item in assignment.items:
@@ -287,13 +304,13 @@ def feedback_text(g, assignment, lang, mode):
             lines += [w["table_hints"], "|---|---|---|---|"]
         for cell in listed:
             label = cell.label or w["scalar_row"]
-            reason = say(w, cell.reason, **cell.detail)
+            reason = say(w, cell.reason, **_inert_fields(cell.detail))
+            typed = inert(shown(cell.value, item, typed=True))
             if mode == "full":
-                lines.append(f"| {label} | {shown(cell.value, item, typed=True)} | "
+                lines.append(f"| {label} | {typed} | "
                              f"{shown(cell.expected, item)} | {cell.fraction:.0%} | {reason} |")
             else:
-                lines.append(f"| {label} | {shown(cell.value, item, typed=True)} | "
-                             f"{cell.fraction:.0%} | {reason} |")
+                lines.append(f"| {label} | {typed} | {cell.fraction:.0%} | {reason} |")
         lines.append("")
     return "\n".join(lines) + "\n"
 

@@ -12,9 +12,21 @@ FORMULA_START = ("=", "+", "-", "@", "\t", "\r", "\n")
 
 
 def safe(value):
-    """A CSV field that no spreadsheet will execute (numbers pass unchanged)."""
-    if isinstance(value, str) and value.startswith(FORMULA_START):
+    """A CSV field that no spreadsheet will execute (numbers pass unchanged); a text
+    that starts with an apostrophe gets one more, so :func:`as_typed` gives every
+    text back exactly."""
+    if isinstance(value, str) and value.startswith(FORMULA_START + ("'",)):
         return "'" + value
+    return value
+
+
+def as_typed(value):
+    """The text :func:`safe` was given: a field crankbook's own CSV (the class
+    manifest) stores is read back as the student or teacher typed it ('=HYPERLINK…'
+    stays a name, escaped again only where it is written to a CSV)."""
+    if isinstance(value, str) and value.startswith("'") and \
+            value[1:2] and value[1:].startswith(FORMULA_START + ("'",)):
+        return value[1:]
     return value
 
 
