@@ -464,3 +464,29 @@ def test_student_text_is_inert_in_feedback_and_stored_as_typed(tmp_path, capsys)
                                                        "<img src=x onerror=alert(1)>"}
     with open(tmp_path / "r" / "gradebook.csv", encoding="utf-8-sig") as handle:
         assert '"=HYPERLINK' not in handle.read()             # no live formula in the CSV
+
+
+# --------------------------------------------- ownership by name is unambiguous
+def test_a_part_naming_two_students_or_a_shared_name_is_nobodys(tmp_path, capsys):
+    """'s1-2' names s1 and s1-2: it was given to the longer id, so s1-2's classmate s1
+    could be graded by a folder name.  A Moodle download folder is matched by the
+    participant's full name (its number is Moodle's, not an id); a name two roster
+    students share matches neither; either way the file is listed for the teacher."""
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名\ns1,张伟\ns1-2,张伟\ns3,李娜\n", encoding="utf-8")
+    code, _, err = run(capsys, "assign", "--roster", roster, "--seed", "4", "-o",
+                       tmp_path / "class")
+    assert code == 0, err
+    pack, subs = tmp_path / "class", tmp_path / "subs"
+    fill(pack / "students" / "s3.xlsx", subs / "s1-2" / "task.xlsx", key_answers(pack, "s3"))
+    fill(pack / "students" / "s3.xlsx",
+         subs / "李娜_8812345_assignsubmission_file_" / "s1.xlsx", key_answers(pack, "s3"))
+    fill(pack / "students" / "s1.xlsx",
+         subs / "张伟_8812346_assignsubmission_file_" / "task.xlsx", key_answers(pack, "s1"))
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r")
+    assert code == 0, err
+    book = gradebook(tmp_path / "r")
+    assert book["s3"]["status"] == "graded"                       # by her Moodle name
+    assert book["s1"]["status"] != "graded" and book["s1-2"]["status"] != "graded"
+    unmatched = (tmp_path / "r" / "gradebook.csv").read_text(encoding="utf-8-sig")
+    assert "s1-2/task.xlsx" in unmatched and "张伟_8812346" in unmatched

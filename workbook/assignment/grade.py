@@ -9,6 +9,7 @@ others.  The results are built in a hidden directory and renamed into place.
 import csv
 import json
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -394,22 +395,36 @@ class _Keys:
         return self._expected
 
 
+MOODLE_FOLDER = re.compile(r"^(?P<name>.+?)_(?P<participant>\d+)_assignsubmission_[a-z]+_?$")
+
+
 def _match(subs, by_id):
-    """The roster student of each file: the id in the outermost part of its path that
-    names one (the student's LMS folder; the file name where there are no folders).
-    Nothing inside a file, and no deeper folder or file name, can make it another
-    student's: they are only noted (``other_ids``) for the teacher.  A path part that
-    names two students leaves the file unmatched (``ambiguous``)."""
-    import re
+    """The roster student of each file: the outermost part of its path that names one
+    (the student's LMS folder; the file name where there are no folders).  A Moodle
+    download folder (``Full Name_1234567_assignsubmission_file_``) is matched by the
+    participant's full name, Moodle's number being no roster id.  Nothing inside a
+    file, and no deeper folder or file name, can make it another student's: they are
+    only noted (``other_ids``) for the teacher.  A part that names two students — two
+    ids, even one inside the other, or a name two students share — leaves the file
+    unmatched (``ambiguous``), listed for the teacher."""
     from pathlib import PurePath
     patterns = [(re.compile(rf"(?<![A-Za-z0-9]){re.escape(i)}(?![A-Za-z0-9])"), i)
                 for i in by_id]
+    by_name = {}
+    for sid, row in by_id.items():
+        by_name.setdefault(_plain_name(row.get("name", "")), []).append(sid)
     for sub in subs:
         sub.student_id, sub.other_ids, sub.ambiguous = None, [], []
         parts = list(PurePath(sub.relative).parts)
         parts[-1] = PurePath(parts[-1]).stem
         for depth, part in enumerate(parts):
-            ids = _ids_in(part, patterns)
+            moodle = MOODLE_FOLDER.match(part)
+            if moodle:
+                ids = sorted(by_name.get(_plain_name(moodle.group("name")), []))
+                if not ids:
+                    break                   # a participant not on the roster: unmatched
+            else:
+                ids = _ids_in(part, patterns)
             if len(ids) > 1:
                 sub.ambiguous = ids
                 break
@@ -420,11 +435,16 @@ def _match(subs, by_id):
                 break
 
 
+def _plain_name(name):
+    """A name compared as people write it: case, width and spacing aside."""
+    import unicodedata
+    return " ".join(unicodedata.normalize("NFKC", str(name)).casefold().split())
+
+
 def _ids_in(text, patterns):
-    """The roster ids ``text`` names (a longer id wins over one it contains: s10, s1)."""
-    found = sorted({i for pattern, i in patterns if pattern.search(text)}, key=len,
-                   reverse=True)
-    return [i for i in found if not any(i != j and i in j for j in found)]
+    """The roster ids ``text`` names, each standing alone (s1 is not named by s10);
+    an id inside another named id (s1 in s1-2) counts too, so such a part names two."""
+    return sorted({i for pattern, i in patterns if pattern.search(text)})
 
 
 def _flag(g, sub, by_id, spec):
