@@ -162,3 +162,22 @@ def test_verify_accepts_a_mean_torque_that_is_zero_up_to_rounding(checked, tmp_p
     assert abs(result["mean_torque"]) < 1e-9
     frame = crankbook.verify(result.to_excel(tmp_path / "c.xlsx"), engine="gnumeric")
     assert frame["ok"].all(), frame[~frame.ok]
+
+
+def test_charts_stand_beside_their_own_columns_whatever_the_trace(tmp_path):
+    """The pressure sheet's charts were anchored after its input table — at column
+    1,513 of a wide trace file, or dropped past Excel's last column; they now stand
+    beside the sheet's own columns and the trace block follows them."""
+    import openpyxl
+    angle = np.arange(0.0, 720.0, 2.0)
+    frame = pd.DataFrame({"angle": angle,
+                          **{f"{n}": 0.1 + 4 * np.exp(-((angle - 372) / 30) ** 2)
+                             for n in (1000, 2000, 3000, 4000, 5000)}})
+    path = crankbook.compute("thesis", pressure=frame, step=6.0).to_excel(tmp_path / "t.xlsx",
+                                                                        lang="en")
+    book = openpyxl.load_workbook(path)
+    sheet = book["Pressure"]
+    trace = min(c for c in range(1, 60)
+                if str(sheet.cell(3, c).value or "").startswith("Measured crank angle"))
+    anchors = [chart.anchor._from.col + 1 for chart in sheet._charts]      # 1-based
+    assert anchors and all(col < trace for col in anchors), (anchors, trace)

@@ -490,3 +490,19 @@ def test_a_part_naming_two_students_or_a_shared_name_is_nobodys(tmp_path, capsys
     assert book["s1"]["status"] != "graded" and book["s1-2"]["status"] != "graded"
     unmatched = (tmp_path / "r" / "gradebook.csv").read_text(encoding="utf-8-sig")
     assert "s1-2/task.xlsx" in unmatched and "张伟_8812346" in unmatched
+
+
+def test_a_run_writing_the_returns_is_refused_before_the_grading(pack, tmp_path, capsys):
+    """Two teachers grading into other results but the same --return folder: the second
+    was refused only after its whole grading, its results already replaced."""
+    subs = tmp_path / "subs"
+    fill(pack / "students" / "s001.xlsx", subs / "s001.xlsx", key_answers(pack, "s001"))
+    holder = subprocess.Popen(["sleep", "30"])
+    (tmp_path / ".back.crankbook.lock").write_text(str(holder.pid))
+    try:
+        code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r", "--return",
+                           tmp_path / "back")
+        _refused(code, err, "another crankbook run")
+        assert not (tmp_path / "r").exists()                # no work done, nothing written
+    finally:
+        holder.kill()

@@ -6,6 +6,7 @@ a student could edit).  Each submission is read on its own (a bad one is
 readable one counts (by modification time, then path) and the notes list the
 others.  The results are built in a hidden directory and renamed into place.
 """
+import contextlib
 import csv
 import json
 import math
@@ -229,7 +230,8 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
     output = check_output_folder(output, "grade", inputs)
     returns = check_output_folder(returns, "grade --return", [*inputs, (output, False)],
                                   "--return") if returns is not None else None
-    with lock(output):                 # a second run into the same results is refused now
+    # a second run into the same results or returns is refused now, before the work
+    with lock(output), (lock(returns) if returns is not None else contextlib.nullcontext()):
         return _grade(assignment, roster, lang, spec, preset, root, output, feedback,
                       previous, keep, missing_as_zero, progress, returns,
                       RunOptions(whole, decisions, lms, lms_template))

@@ -70,6 +70,7 @@ class Layout:
         self.locator = Locator(spec, {}, grid_rows, self._grid_numbers(grid_sizes), axis_sizes)
         self.places = self.locator.places
         self.table_start = {}
+        self.chart_column = {}             # sheet key -> the column its charts stand in
         self.column_of = {}                  # series key -> first column on its sheet
         self._place_series_sheets()
         self.items_plans = self._place_items_sheets()
@@ -130,6 +131,12 @@ class Layout:
                                                 grid=sheet.grid, count=count)
                 self.column_of[column.key] = col
                 col += count
+            tables = [t for t in spec.input_tables if t.sheet == sheet.key]
+            if tables and sheet.charts:
+                # the charts stand beside the sheet's own columns, the input tables
+                # (a trace of any width) after them: never pushed off to column 1,513
+                self.chart_column[sheet.key] = col + 1
+                col += 2
             for table in spec.input_tables:
                 if table.sheet == sheet.key:
                     self.table_start[table.key] = col + 1

@@ -78,7 +78,7 @@ def write_series_sheet(book, sheet_spec, layout, results, styles):
     for table in layout.tables_on(sheet_spec.key):
         _write_input_table(ws, table, layout, results, styles)
     fit_header_rows(ws)
-    chart_col = last_col + 2
+    chart_col = layout.chart_column.get(sheet_spec.key, last_col + 2)
     row = FIRST_ROW
     for chart_spec in sheet_spec.charts:
         chart = add_chart(book, chart_spec, sheet_spec, layout, results, ws, styles)
