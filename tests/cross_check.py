@@ -17,6 +17,7 @@ from crankbook.reading.workbook_reader import load_named
 from tests.conftest import edit_cells, named, run_cli
 
 ENGINES = ("libreoffice", "gnumeric")
+BATCH_TIMEOUT = 1800             # s: the whole batch's hang guard
 PASTED_TRACE = np.arange(-5.0, 726.0, 5.0)
 WORKBOOKS = {
     # the thesis engine (issue 3) ------------------------------------------------
@@ -188,7 +189,10 @@ def recalculate_all(tmp, paths, workbooks=WORKBOOKS):
         out[name] = Checked(path, spec, expected, floors, named(path),
                             valid=workbooks[name].get("valid", True))
     with ThreadPoolExecutor(max_workers=2) as pool:      # the engines on both cores
-        lo = pool.submit(recalc.convert, list(paths.values()), tmp / "libreoffice")
+        # one engine start for ~35 workbooks: on a busy two-core machine that takes
+        # longer than recalc's 600 s per-start guard, which is for a hung engine
+        lo = pool.submit(recalc.convert, list(paths.values()), tmp / "libreoffice",
+                         timeout=BATCH_TIMEOUT)
         gn = pool.submit(recalc.convert, list(paths.values()), tmp / "gnumeric",
                          engine="gnumeric")
         converted, gnumeric = lo.result(), gn.result()

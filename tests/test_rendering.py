@@ -39,7 +39,7 @@ def rendered(tmp_path_factory, soffice):
         path = tmp / f"{preset}__{lang}.xlsx"
         compute(preset).to_excel(path, lang=lang)
         books[(preset, lang)] = path
-    pdfs = recalc.convert(list(books.values()), tmp / "pdf", target="pdf")
+    pdfs = recalc.convert(list(books.values()), tmp / "pdf", target="pdf", timeout=1800)
     return {key: (path, pdf) for (key, path), pdf in zip(books.items(), pdfs)}
 
 

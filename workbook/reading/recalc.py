@@ -56,15 +56,20 @@ def make_profile(directory):
     return Path(directory).resolve().as_uri()
 
 
-def _die_with_parent():
-    """In the engine's process, before it starts: on Linux, SIGKILL it when crankbook
-    dies, however crankbook dies (prctl PR_SET_PDEATHSIG); its own children are then
-    reaped by the next run through the scratch folder's record."""
+def _death_signal():
+    """A function that, called in the engine's process before it starts, has Linux
+    SIGKILL it when crankbook dies, however crankbook dies (prctl PR_SET_PDEATHSIG;
+    its own children are reaped by the next run through the scratch folder's
+    record) — or None off Linux.  The C function is found here, in the parent: the
+    child between fork and exec only calls it (no import, no dlopen, no lock)."""
+    if sys.platform != "linux":
+        return None
     try:
         import ctypes
-        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)     # PR_SET_PDEATHSIG
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
     except (OSError, AttributeError):
-        pass
+        return None
+    return lambda: prctl(1, signal.SIGKILL)                              # PR_SET_PDEATHSIG
 
 
 def _run(command, timeout, home):
@@ -74,7 +79,7 @@ def _run(command, timeout, home):
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                env={**os.environ, "HOME": home, "TMPDIR": home},
                                start_new_session=True,
-                               preexec_fn=_die_with_parent if sys.platform == "linux" else None)
+                               preexec_fn=_death_signal())
     record_engine(home, process.pid)      # a killed run's engine: the next run ends it
     try:
         out, err = process.communicate(timeout=timeout)

@@ -79,8 +79,11 @@ def write_report_sheet(book, layout, results, styles):
     if not grids:
         return None
     ws = book.add_worksheet(layout.sheet_name["report"])
+    # the title starts in column B: column A repeats on every page, and its cell would
+    # print the title cut at A's edge on a page to the right (each such page starts
+    # with the title of its own, below)
     title = f"{FIXED_SHEETS['report'][lang]} / {FIXED_SHEETS['report'][layout.other]}"
-    ws.write(0, 0, title, styles.title)
+    ws.write(0, 1, title, styles.title)
     row, widest, tallest, notes, blocks = 1, 0, 0, [], []
     for grid in grids:
         columns = _columns(layout, grid)
@@ -128,9 +131,7 @@ def write_report_sheet(book, layout, results, styles):
     per_page = math.ceil(widest / math.ceil(widest / capacity))    # pages alike
     breaks = list(range(1 + per_page, widest + 1, per_page))
     ws.set_v_pagebreaks(breaks)
-    # a page to the right repeats column A only, where the title is cut at its edge:
-    # each such page starts with the whole title again
-    for column in breaks:
+    for column in breaks:                 # each page to the right: the whole title again
         ws.write(0, column, f"{title} {CONTINUED[lang]}", styles.title)
     ws.set_h_pagebreaks(_blocks_kept_whole(blocks, scale, height))
     # the notes wrap across the first page's columns (a page wide even when the table
