@@ -408,7 +408,7 @@ def test_grade_replaces_only_a_folder_it_wrote(pack, tmp_path, capsys):
     for _ in range(2):                  # its own earlier output: replaced, with the umask
         code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r")
         assert code == 0, err
-        assert (tmp_path / "r" / ".crankbook-output").read_text().strip() == "grade"
+        assert (tmp_path / "r" / ".crankbook").read_text().strip() == "grade"
         assert (tmp_path / "r").stat().st_mode & 0o777 == 0o777 & ~umask
     code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "b", "--return",
                        tmp_path / "r")

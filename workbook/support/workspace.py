@@ -127,7 +127,7 @@ def check_directory(target, option="-o"):
     return target
 
 
-OUTPUT_MARKER = ".crankbook-output"     # inside a folder crankbook wrote: the command
+OUTPUT_MARKER = ".crankbook"            # inside a folder crankbook wrote: the command
 
 
 def _inside(path, folder):
