@@ -304,6 +304,11 @@ def test_damaged_teacher_files_get_one_line(pack, tmp_path):
     done = run_cli("build", "--pressure", trace, "-o", tmp_path / "t.xlsx")
     assert done.returncode == 2 and "not a readable CSV" in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1
+    european = tmp_path / "european.csv"                      # ';' and decimal commas
+    european.write_text("angle;pressure\n0;0,1013\n360;4,5\n720;0,1\n", encoding="utf-8")
+    done = run_cli("build", "--pressure", european, "-o", tmp_path / "e.xlsx")
+    assert done.returncode == 2 and "a decimal comma" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and not (tmp_path / "e.xlsx").exists()
 
 
 @pytest.mark.parametrize("points,words", [("1_000", "not a plain decimal number"),

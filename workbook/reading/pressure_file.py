@@ -13,6 +13,7 @@ Nothing is dropped silently.
 """
 import csv
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -168,6 +169,17 @@ def traces_of_rows(what, rows, cycle=720.0):
     return Traces(angles, np.column_stack(columns), tuple(speeds))
 
 
+DECIMAL_COMMA = re.compile(r"[+-]?[0-9]+,[0-9]+\Z")
+
+
+def _comma_hint(cell):
+    """Why a European CSV's number is not one: a decimal comma."""
+    if DECIMAL_COMMA.match(str(cell).strip()):
+        return (" (a decimal comma, as a European CSV writes it: save the file with '.' as "
+                "the decimal sign)")
+    return ""
+
+
 def _trace_of_rows(what, rows, cycle, numbered_from=1):
     if len(rows) > MAX_ROWS:
         raise PressureFileError(f"{what}: more than {MAX_ROWS} rows")
@@ -182,10 +194,10 @@ def _trace_of_rows(what, rows, cycle, numbered_from=1):
             continue                          # a header row
         if angle is None:
             raise PressureFileError(f"{what}, row {number}: crank angle {str(cells[0])[:30]!r} "
-                                    f"is not a number")
+                                    f"is not a number{_comma_hint(cells[0])}")
         if pressure is None:
             raise PressureFileError(f"{what}, row {number}: pressure {str(cells[1])[:30]!r} "
-                                    f"is not a number")
+                                    f"is not a number{_comma_hint(cells[1])}")
         if pressure <= 0:
             raise PressureFileError(f"{what}, row {number}: pressure {pressure:g} MPa must be "
                                     f"> 0 (absolute pressure)")
