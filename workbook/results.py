@@ -121,8 +121,8 @@ class Results:
         """What a coarse main grid does to the template's compared results (p_max, the
         mean torque, the power), measured against a build at the template's own step:
         one line, or None where the step is not coarse."""
-        coarse, step = self.spec.coarse_step, self.steps.get("step")
-        if not coarse or step is None or step <= coarse["above"]:
+        coarse, step = _coarse(self.spec, self.steps)
+        if coarse is None:
             return None
         fine = results_for(self.spec, self.preset, self.values, self.tables,
                            {**self.steps, "step": None})
@@ -259,12 +259,21 @@ def _warn_status_notes(results):
             warnings.warn(note["en"], CrankbookWarning, stacklevel=3)
 
 
+def _coarse(spec, steps):
+    """(the template's coarse_step, the main grid's step) when that step is above it,
+    else (None, step)."""
+    coarse, step = spec.coarse_step, steps.get("step")
+    if not coarse or step is None or step <= coarse["above"]:
+        return None, step
+    return coarse, step
+
+
 def _warn_coarse_step(results, steps):
     """A main grid coarser than the template's ``coarse_step`` reads the peaks between
     rows: one warning in words (measuring it costs a second build, which
     :meth:`Results.coarse_step_effect` makes on request)."""
-    coarse, step = results.spec.coarse_step, steps.get("step")
-    if not coarse or step is None or step <= coarse["above"]:
+    coarse, step = _coarse(results.spec, steps)
+    if coarse is None:
         return
     first, *rest = coarse["compare"]
     warnings.warn(CoarseStepWarning(

@@ -17,6 +17,7 @@ import os
 import re
 import shutil
 import signal
+import stat
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -234,7 +235,6 @@ def _private(folder):
         info = os.lstat(folder)
     except OSError:
         return False
-    import stat
     return stat.S_ISDIR(info.st_mode) and info.st_uid == os.getuid() and \
         not info.st_mode & 0o077
 
@@ -282,7 +282,6 @@ def _recorded_group(record):
     except OSError:
         return None
     try:
-        import stat
         if not stat.S_ISREG(os.fstat(descriptor).st_mode):
             return None
         text = os.read(descriptor, RECORD_BYTES + 1)
