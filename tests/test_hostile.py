@@ -9,6 +9,7 @@ import subprocess
 import sys
 import time
 import zipfile
+from pathlib import Path
 
 import openpyxl
 import pytest
@@ -360,22 +361,88 @@ def test_a_damaged_earlier_round_is_refused_in_one_line(pack, tmp_path, damage):
 
 
 # ------------------------------------------------- no machine in feedback
+def _machine_book(pack, target):
+    """s001's task with its scalar answers computed, in order: CELL directly, through
+    a helper cell, through a defined name, through a local name, from another file
+    ([1]), by INDIRECT where the book asks the machine, from a cell of an array
+    formula's area — and one honest formula (=2*3) last."""
+    from openpyxl.workbook.defined_name import DefinedName
+    from openpyxl.worksheet.formula import ArrayFormula
+    answers = key_answers(pack, "s001")
+    scalars = [k for k, v in answers.items() if not isinstance(v, list)][:8]
+    fill(pack / "students" / "s001.xlsx", target, answers)
+    book = openpyxl.load_workbook(target)
+    helper = book.worksheets[0]
+    helper["Z1"] = '=CELL("filename")'
+    helper["Z2"] = "=Z1"
+    helper["Z3"] = ArrayFormula("Z3:Z4", '=INFO("system")&{1;2}')
+    book.defined_names["where"] = DefinedName("where", attr_text='INFO("directory")')
+    helper.defined_names["here"] = DefinedName("here", attr_text='CELL("filename")')
+    title = helper.title.replace("'", "''")
+    chains = ['=CELL("filename")', f"='{title}'!Z2&\"\"", "=where", "=here",
+              "=[1]Sheet1!A1", '=INDIRECT("Z"&1)', f"='{title}'!Z4", "=2*3"]
+    for key, formula in zip(scalars, chains):
+        sheet, ref = next(iter(book.defined_names[f"a_{key}"].destinations))
+        book[sheet][ref.replace("$", "")] = formula
+    book.save(target)
+    return scalars
+
+
+def test_an_answer_depending_on_the_machine_down_any_chain_is_refused(pack, tmp_path):
+    """Issue 39.6: a helper cell, a name, a local name, another file, INDIRECT or an
+    array formula between the answer and CELL/INFO still make the answer the
+    grading machine's: refused, its own formula kept as text; the honest formula
+    is left to be calculated."""
+    from crankbook.assignment.grade import answer_shapes
+    from crankbook.assignment.submissions import Submission, read
+    from crankbook.assignment import template
+    from crankbook.spec import params
+    scalars = _machine_book(pack, tmp_path / "s001.xlsx")
+    spec, _, _ = params.load_preset("course-design")
+    shapes = answer_shapes(template.for_preset("course-design"), "zh", spec)
+    sub = Submission(path=tmp_path / "s001.xlsx", relative="s001.xlsx")
+    read(sub, shapes)
+    assert sub.problem is None, sub.problem
+    refused = [getattr(sub.answers[k][0], "machine_dependent", False) for k in scalars]
+    assert refused == [True] * 7 + [False], refused
+    assert sub.answers[scalars[0]][0] == '=CELL("filename")'
+    assert sub.needs_recalc                           # =2*3 is still calculated
+
+
+@pytest.mark.parametrize("text, rows, cols, moved", [
+    ("A1+$B$2", 1, 1, "B2+$B$2"),
+    ("SUM(A1:A3)*$C1", 2, 0, "SUM(A3:A5)*$C3"),
+    ("'My sheet'!B:B", 0, 1, "'My sheet'!C:C"),
+    ('"A1"&A1', 1, 0, '"A1"&A2'),                   # a string never moves
+    ("Z$9", 0, 2, "AB$9"),
+])
+def test_a_shared_formula_follower_reads_its_master_moved(text, rows, cols, moved):
+    from crankbook.reading.dependencies import moved as move
+    assert move(text, rows, cols) == moved
+
+
+@pytest.mark.parametrize("text, ranges, names", [
+    ("A1+Sheet2!B2", [("S", 1, 1, 1, 1), ("Sheet2", 2, 2, 2, 2)], []),
+    ("SUM('a b'!A1:C3)+rate", [("a b", 1, 1, 3, 3)], ["rate"]),
+    ('CONCAT("B5", x_1)', [], ["x_1"]),
+    ("3:4", [("S", 3, 1, 4, 16384)], []),
+    ("TRUE+LOG10(2)", [], []),
+])
+def test_references_are_the_cells_ranges_and_names_a_formula_reads(text, ranges, names):
+    from crankbook.reading.dependencies import references
+    assert references(text, "S") == (ranges, names)
+
+
 @pytest.mark.libreoffice
 def test_environment_functions_in_answers_are_shown_as_typed(pack, tmp_path, soffice):
     subs = tmp_path / "subs"
-    answers = key_answers(pack, "s001")
-    first = next(k for k, v in answers.items() if not isinstance(v, list))
-    fill(pack / "students" / "s001.xlsx", subs / "s001.xlsx", answers, formulas=True)
-    book = openpyxl.load_workbook(subs / "s001.xlsx")
-    sheet, ref = next(iter(book.defined_names[f"a_{first}"].destinations))
-    book[sheet][ref.replace("$", "")] = '=CELL("filename")&INFO("system")'
-    book.save(subs / "s001.xlsx")                   # saved without values: LibreOffice runs
+    _machine_book(pack, subs / "s001.xlsx")       # saved without values: LibreOffice runs
     done = run_cli("grade", pack, subs, "-o", tmp_path / "results")
     assert done.returncode == 0, done.stderr
     feedback = (tmp_path / "results" / "feedback" / "s001.md").read_text(encoding="utf-8")
-    assert "crankbook-" not in feedback and "/tmp" not in feedback
+    assert "crankbook-" not in feedback and "/tmp" not in feedback and "file:" not in feedback
     assert not re.search(r"\b(Linux|LINUX|pcdos|mac)\b", feedback)
-    assert 'CELL("filename")' in feedback
+    assert 'CELL("filename")' in feedback and feedback.count("拒绝") == 7
 
 
 # ---------------------------------------------- no folder crankbook did not write
@@ -511,3 +578,106 @@ def test_a_run_writing_the_returns_is_refused_before_the_grading(pack, tmp_path,
         assert not (tmp_path / "r").exists()                # no work done, nothing written
     finally:
         holder.kill()
+
+
+# ------------------------------------------------- a return is written, not passed on
+def _parts_text(path):
+    with zipfile.ZipFile(path) as archive:
+        return {n: archive.read(n).decode("utf-8", "replace") for n in archive.namelist()}
+
+
+def test_a_returned_workbook_carries_only_the_students_answers(pack, tmp_path, capsys):
+    """Issue 39.4: the return is the assigned workbook with the student's answer values
+    and the grader's marks.  s001 hands in a file carrying an external link, a
+    hyperlink, a HYPERLINK formula, hidden and very hidden sheets, a comment, a
+    header, a validation prompt and names of its own; s002 hands in a copy of s001's
+    returned workbook (its score box and all).  Neither return carries any of it."""
+    from openpyxl.comments import Comment
+    from openpyxl.workbook.defined_name import DefinedName
+    from openpyxl.worksheet.datavalidation import DataValidation
+    subs = tmp_path / "subs"
+    answers = key_answers(pack, "s001")
+    fill(pack / "students" / "s001.xlsx", subs / "s001.xlsx", answers)
+    book = openpyxl.load_workbook(subs / "s001.xlsx")
+    first = book.worksheets[0]
+    first["Z1"].hyperlink = "https://PLANTED.example/phish"
+    first["Z2"] = '=HYPERLINK("https://PLANTED.example","PLANTED")'
+    first["Z3"].comment = Comment("PLANTED comment", "PLANTED author")
+    first.oddHeader.center.text = "PLANTED header"
+    rule = DataValidation(type="whole", prompt="PLANTED prompt", showInputMessage=True)
+    first.add_data_validation(rule)
+    rule.add("Z4")
+    hidden = book.create_sheet("PLANTED hidden")
+    hidden.sheet_state = "hidden"
+    hidden["A1"] = "PLANTED"
+    very = book.create_sheet("PLANTED veryhidden")
+    very.sheet_state = "veryHidden"
+    book.defined_names["PLANTED_name"] = DefinedName("PLANTED_name", attr_text="'PLANTED hidden'!$A$1")
+    book.save(subs / "s001.xlsx")
+    with zipfile.ZipFile(subs / "s001.xlsx", "a") as archive:       # an external link part
+        archive.writestr("xl/externalLinks/externalLink1.xml",
+                         '<externalLink xmlns="http://schemas.openxmlformats.org/'
+                         'spreadsheetml/2006/main"><externalBook r:id="rId1" xmlns:r="PLANTED"/>'
+                         '</externalLink>')
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r1", "--return",
+                       tmp_path / "back1")
+    assert code == 0, err
+    returned = tmp_path / "back1" / "s001.xlsx"
+    # s002 hands in s001's returned workbook as their own
+    (subs / "s002.xlsx").write_bytes(returned.read_bytes())
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r2", "--return",
+                       tmp_path / "back2")
+    assert code == 0, err
+    assigned = {sid: openpyxl.load_workbook(pack / "students" / f"{sid}.xlsx")
+                for sid in ("s001", "s002")}
+    for sid in ("s001", "s002"):
+        path = tmp_path / "back2" / f"{sid}.xlsx"
+        parts = _parts_text(path)
+        assert not any("PLANTED" in text for text in parts.values()), sid
+        assert not any(n.startswith("xl/externalLinks") for n in parts), sid
+        assert not any("<hyperlink" in t or "HYPERLINK(" in t for t in parts.values()), sid
+        back = openpyxl.load_workbook(path)
+        assert back.sheetnames[1:] == assigned[sid].sheetnames
+        assert all(ws.sheet_state == "visible" for ws in back.worksheets)
+        assert set(back.defined_names) == set(assigned[sid].defined_names)
+        text = " ".join(parts.values())
+        assert "学生1号" not in text if sid == "s002" else True      # not s001's score box
+        assert len([t for t in back.worksheets[0].iter_rows(values_only=True)
+                    if t[0] and str(t[0]).startswith("得分")]) == 1
+        # the student's answer values stand in the assigned cells
+        sheet, ref = next(iter(back.defined_names["a_crank_radius"].destinations))
+        assert back[sheet][ref.replace("$", "")].value == pytest.approx(answers["crank_radius"])
+    rows = gradebook(tmp_path / "r2")
+    assert rows["s002"]["status"] == "graded"
+
+
+def test_a_return_is_never_silently_missing(pack, tmp_path, capsys, monkeypatch):
+    """Issue 39.5: a graded student whose workbook cannot go back — the assigned file
+    gone from the class folder, memory running out while writing it — is told why,
+    in the gradebook's notes, the feedback and the page that goes back."""
+    import shutil
+    import crankbook.assignment.annotate as annotate
+    klass = tmp_path / "class"
+    shutil.copytree(pack, klass)
+    subs = tmp_path / "subs"
+    for sid in ROSTER:
+        fill(pack / "students" / f"{sid}.xlsx", subs / f"{sid}.xlsx", key_answers(pack, sid))
+    (klass / "students" / "s001.xlsx").unlink()
+    real = annotate.openpyxl.load_workbook
+
+    def short_of_memory(path, *args, **kwargs):
+        if Path(path).stem == "s002":
+            raise MemoryError
+        return real(path, *args, **kwargs)
+    monkeypatch.setattr(annotate.openpyxl, "load_workbook", short_of_memory)
+    code, _, err = run(capsys, "grade", klass, subs, "-o", tmp_path / "r", "--return",
+                       tmp_path / "back")
+    assert code == 0, err
+    rows = gradebook(tmp_path / "r")
+    assert sorted(p.name for p in (tmp_path / "back").glob("*.xlsx")) == ["m001.xlsx"]
+    for sid, why in (("s001", "班级文件夹里没有"), ("s002", "MemoryError")):
+        assert rows[sid]["status"] == "graded" and "no-return" in rows[sid]["flags"]
+        for text in ((tmp_path / "r" / "feedback" / f"{sid}.md").read_text("utf-8"),
+                     (tmp_path / "back" / f"{sid}.html").read_text("utf-8")):
+            assert "没有发回批改后的工作簿" in text and why in text, sid
+    assert "no-return" not in rows["m001"]["flags"]

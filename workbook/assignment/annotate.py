@@ -1,22 +1,30 @@
-"""`grade --return DIR`: each student's own workbook back, graded where they typed.
+"""`grade --return DIR`: each student's workbook back, graded where they typed.
 
-Every answer cell the grader read is coloured (right, partial, wrong, unreadable,
-empty) and carries a comment in the class's language — the reason and the cell's
-points, the expected value only with ``--feedback full`` — and the first sheet gets
-a score box.  Beside it, ``<id>.html``: the feedback as a page any phone opens.
-Only the student's own file, own values and own notes go in: never a flag, a
-suspicion or another student's id (the private notes stay in the teacher's files).
+The returned workbook is *written*, not passed on: it is the workbook the student
+was assigned (the class folder keeps it) with the student's answer values — as
+the bounded reader read them from the hand-in — typed into its answer cells.
+Nothing else of the hand-in travels: no links, hyperlinks, hidden sheets,
+comments, headers, validation prompts, names or properties of the submitted file,
+and never a classmate's score box (a copy of a classmate's return brings only its
+answer values).  No submission is ever loaded whole: openpyxl opens only
+crankbook's own assigned file.
+
+Every answer cell is coloured (right, partial, wrong, unreadable, empty) and
+carries a comment in the class's language — the reason and the cell's points,
+the expected value only with ``--feedback full`` — and the first sheet gets a
+score box.  Beside it, ``<id>.html``: the feedback as a page any phone opens.
+A student whose workbook cannot go back is told why, on that page and in the
+gradebook's notes.
 """
 import html
 import io
+import math
 import zipfile
 from pathlib import Path
 
 import openpyxl
 from openpyxl.writer.excel import ExcelWriter
 from openpyxl.comments import Comment
-from openpyxl.packaging.core import DocumentProperties
-from openpyxl.packaging.custom import CustomPropertyList
 from openpyxl.styles import Alignment, Border, Font, PatternFill, Side
 
 from crankbook.assignment.results import (_item_summary, _points, reason_text, say, shown,
@@ -27,10 +35,8 @@ from crankbook.reading.workbook_reader import parse_reference
 
 FILLS = {"right": "C6EFCE", "partial": "FFEB9C", "wrong": "FFC7CE", "unreadable": "D9D2E9",
          "empty": "EDEDED"}
-UNREADABLE = ("not_a_number", "wrong_unit")
-# openpyxl holds a whole workbook in memory: a file far larger than any task's is
-# graded (the bounded reader) but only its HTML page goes back
-MAX_ANNOTATED = 8 * 2**20
+UNREADABLE = ("not_a_number", "wrong_unit", "machine_dependent")
+MAX_TEXT = 200                  # characters of a typed answer written back
 
 
 def kind_of(cell):
@@ -44,23 +50,50 @@ def kind_of(cell):
     return "partial" if cell.fraction > 0 else "wrong"
 
 
-def write_returns(directory, assignment, lang, grades, chosen, mode):
-    """``directory``/<id>.xlsx (graded students) and <id>.html (every student)."""
+def write_returns(directory, assignment, lang, grades, chosen, mode, assigned):
+    """``directory``/<id>.xlsx (graded students) and <id>.html (every student).
+    ``chosen``: student id -> the submission graded this round; ``assigned``: the
+    class folder's ``students`` folder.  A graded student whose workbook cannot go
+    back gets a note saying why (the gradebook and every feedback show it), before
+    the page is written."""
     directory = Path(directory)
     for g in grades:
-        sub = chosen.get(g.student_id)
+        if g.status == "graded":
+            reason = _return_workbook(g, chosen.get(g.student_id), assignment, lang, mode,
+                                      Path(assigned) / f"{g.student_id}.xlsx",
+                                      directory / f"{g.student_id}.xlsx")
+            if reason:
+                word, fields = reason
+                g.note("no-return", "return_missing", reason=say(words(lang), word, **fields))
         (directory / f"{g.student_id}.html").write_text(
             feedback_html(g, assignment, lang, mode), encoding="utf-8")
-        if g.status == "graded" and sub is not None and sub.size <= MAX_ANNOTATED:
-            try:
-                annotate(sub, g, assignment, lang, mode, directory / f"{g.student_id}.xlsx")
-            except Exception:        # one odd file costs its own return, not the class's
-                (directory / f"{g.student_id}.xlsx").unlink(missing_ok=True)
 
 
-def annotate(sub, g, assignment, lang, mode, target):
+def _return_workbook(g, sub, assignment, lang, mode, assigned, target):
+    """Write one returned workbook; (word, fields) saying why when there is none."""
+    if sub is None:
+        return "return_kept", {}
+    if not assigned.is_file():
+        return "return_no_assigned", {}
+    try:
+        annotate(sub, g, assignment, lang, mode, assigned, target)
+    except MemoryError:
+        reason = "return_failed", {"cause": "MemoryError"}
+    except OSError as error:            # a full disk, a folder gone: this file, not the class
+        reason = "return_failed", {"cause": error.strerror or type(error).__name__}
+    except Exception as error:          # one odd file costs its own return, not the class's
+        reason = "return_failed", {"cause": type(error).__name__}
+    else:
+        return None
+    target.unlink(missing_ok=True)
+    return reason
+
+
+def annotate(sub, g, assignment, lang, mode, assigned, target):
+    """The assigned workbook ``assigned`` with the student's answers (``sub.answers``,
+    placed in the task's rows by ``sub.placement``), coloured and commented."""
     w = words(lang)
-    book = openpyxl.load_workbook(sub.path)
+    book = openpyxl.load_workbook(assigned)
     sheets = set(book.sheetnames)
     for item in assignment.items:
         if item.key not in g.items or f"a_{item.key}" not in book.defined_names:
@@ -72,11 +105,17 @@ def annotate(sub, g, assignment, lang, mode, target):
         cells = [book[found.sheet].cell(row, col)
                  for row in range(found.min_row, found.max_row + 1)
                  for col in range(found.min_col, found.max_col + 1)]
-        placement = sub.placement.get(item.key, list(range(len(cells))))
-        for index, cell in enumerate(cells):
-            key_row = placement[index] if index < len(placement) else None
-            if key_row is None or key_row >= len(results):
+        typed = sub.answers.get(item.key, [])
+        placement = sub.placement.get(item.key, list(range(len(typed))))
+        first_of = {}                    # key row -> the hand-in's row graded for it
+        for index, key_row in enumerate(placement):
+            if key_row is not None and index < len(typed):
+                first_of.setdefault(key_row, index)
+        for key_row, cell in enumerate(cells):
+            if key_row >= len(results):
                 continue
+            if key_row in first_of:
+                _type_answer(cell, typed[first_of[key_row]])
             result = results[key_row]
             kind = kind_of(result)
             cell.fill = PatternFill("solid", fgColor=FILLS[kind])
@@ -90,9 +129,21 @@ def annotate(sub, g, assignment, lang, mode, target):
                 comment = Comment(text, "crankbook")
                 comment.width, comment.height = 260, 90
                 cell.comment = comment
-    _own_identity(book, g, sheets, assignment.name(lang))
+    book.properties.title = assignment.name(lang)
     _score_box(book, g, assignment, lang, w)
     _save_reproducibly(book, target)
+
+
+def _type_answer(cell, value):
+    """The student's value as a value — a number, a bool, or text kept as text (an
+    answer typed as "=…" is never turned into a formula here)."""
+    if value is None or value == "":
+        return
+    if isinstance(value, bool) or (isinstance(value, float) and math.isfinite(value)):
+        cell.value = value
+        return
+    cell.value = str(value)[:MAX_TEXT]
+    cell.data_type = "s"
 
 
 def _save_reproducibly(book, target):
@@ -108,23 +159,6 @@ def _save_reproducibly(book, target):
             fixed = zipfile.ZipInfo(entry.filename, date_time=FIXED_TIME.timetuple()[:6])
             fixed.compress_type = zipfile.ZIP_DEFLATED
             archive.writestr(fixed, source.read(entry))
-
-
-def _own_identity(book, g, sheets, title):
-    """The returned file names its owner only: a file handed in with another student's
-    id, name, author or document properties (a copy: title, subject, keywords, a
-    custom "owner") goes back with the owner's own, and with crankbook's properties
-    alone (``check`` and ``audit`` still know the file by them)."""
-    for name, value in (("s_student_id", g.student_id), ("s_student_name", g.name)):
-        if name in book.defined_names:
-            found = parse_reference(name, book.defined_names[name].attr_text, sheets)
-            book[found.sheet].cell(found.min_row, found.min_col).value = value
-    book.properties = DocumentProperties(title=title, creator="crankbook",
-                                         lastModifiedBy="crankbook", created=FIXED_TIME)
-    ours = [p for p in book.custom_doc_props.props if p.name.startswith("crankbook_")]
-    book.custom_doc_props = CustomPropertyList()
-    for prop in ours:
-        book.custom_doc_props.append(prop)
 
 
 def _score_box(book, g, assignment, lang, w):

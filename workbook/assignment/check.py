@@ -21,7 +21,7 @@ from crankbook.reading.workbook_reader import parse_reference
 from crankbook.reading.xlsx_reader import Unreadable, XlsxBook
 from crankbook.support.paths import not_a_file
 
-LOST = ("not_a_number", "wrong_unit")          # cell reasons whose answer grading cannot use
+LOST = ("not_a_number", "wrong_unit", "machine_dependent")          # cell reasons whose answer grading cannot use
 
 
 @dataclass
@@ -139,6 +139,7 @@ def _cells_only(report, w, assignment, sub, lang):
         for number, value in enumerate(sub.answers.get(item.key, [])):
             parsed = read_answer(value)[0]
             reason = "no_answer" if value is None or value == "" else \
+                "machine_dependent" if getattr(value, "machine_dependent", False) else \
                 ("not_a_number" if parsed is None else "number")
             cells.append((str(number + 1), value, reason, {}))
         _report_cells(report, w, item, lang, cells or [("", None, "no_answer", {})])

@@ -234,7 +234,8 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
     with lock(output), (lock(returns) if returns is not None else contextlib.nullcontext()):
         return _grade(assignment, roster, lang, spec, preset, root, output, feedback,
                       previous, keep, missing_as_zero, progress, returns,
-                      RunOptions(whole, decisions, lms, lms_template))
+                      RunOptions(whole, decisions, lms, lms_template,
+                                 Path(directory) / "students"))
 
 
 def part_of(assignment, items=None, out_of=None):
@@ -270,6 +271,7 @@ class RunOptions:
     decisions: list = field(default_factory=list)
     lms: str = "generic"
     lms_template: object = None
+    assigned: object = None        # the class folder's students/: returns are built on them
 
 
 def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previous, keep,
@@ -346,19 +348,23 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
                                         earlier_suspicions)
     apply_overrides(grades, options.decisions, assignment)
     unmatched = [s for s in subs if s.student_id not in grades]
-    with staged_directory(output, replace=True, command="grade") as staging:
-        write_results(staging, assignment, spec, lang, list(grades.values()), unmatched,
-                      feedback=feedback, missing_as_zero=missing_as_zero,
-                      suspicions=suspicions)
-        exports.write_lms(staging, options.lms, options.lms_template, assignment, lang,
-                          list(grades.values()), feedback, missing_as_zero)
-    if returns is not None:
-        from crankbook.assignment.annotate import write_returns
-        with staged_directory(returns, replace=True, command="grade --return") as staging:
-            write_returns(staging, assignment, lang, list(grades.values()),
+    # the returns first: a student whose workbook cannot go back is told why in the
+    # gradebook and every feedback; both folders replace the old ones only when whole
+    back = staged_directory(returns, replace=True, command="grade --return") \
+        if returns is not None else contextlib.nullcontext()
+    with back as back_staging:
+        if back_staging is not None:
+            from crankbook.assignment.annotate import write_returns
+            write_returns(back_staging, assignment, lang, list(grades.values()),
                           # a grade kept from an earlier round is not this file's
                           {sid: sub for sid, sub in chosen.items()
-                           if grades[sid] is this_round[sid]}, feedback)
+                           if grades[sid] is this_round[sid]}, feedback, options.assigned)
+        with staged_directory(output, replace=True, command="grade") as staging:
+            write_results(staging, assignment, spec, lang, list(grades.values()), unmatched,
+                          feedback=feedback, missing_as_zero=missing_as_zero,
+                          suspicions=suspicions)
+            exports.write_lms(staging, options.lms, options.lms_template, assignment, lang,
+                              list(grades.values()), feedback, missing_as_zero)
     return {"graded": sum(g.status == "graded" for g in grades.values()),
             "missing": sum(g.status == "missing" for g in grades.values()),
             "unreadable": sum(g.status == "unreadable" for g in grades.values()),

@@ -103,7 +103,10 @@ def _grade(entry):
               problem=str(entry.get("problem", "")), round=int(entry.get("round", 1)))
     g.flags = [str(f) for f in entry.get("flags", [])]
     g.files = [str(f) for f in entry.get("files", [])]
-    g.notes = [(str(w), dict(f), bool(p)) for w, f, p in entry.get("notes", [])]
+    # whether a workbook went back is that run's news, not the grade's
+    g.notes = [(str(w), dict(f), bool(p)) for w, f, p in entry.get("notes", [])
+               if w != "return_missing"]
+    g.flags = [f for f in g.flags if f != "no-return"]
     for key, (points, cells) in entry.get("items", {}).items():
         g.items[str(key)] = (float(points), [
             CellResult(str(label), value, float("nan") if expected is None else float(expected),

@@ -105,6 +105,8 @@ def score_cell(label, value, expected, item, rubric, alternatives=(), consequent
     slip credit — it is right only where the key itself is zero.  ``consequential``:
     the values (the student's own mechanism's, and its alternatives) that earn
     consequential credit."""
+    if getattr(value, "machine_dependent", False):
+        return CellResult(label, str(value), expected, 0.0, "machine_dependent", {})
     number, typed = read_answer(value)
     if number is None:
         reason = "no_answer" if value is None or value == "" else "not_a_number"

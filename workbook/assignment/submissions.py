@@ -19,6 +19,7 @@ from pathlib import Path
 
 from crankbook.reading import recalc
 from crankbook.errors import CrankbookError
+from crankbook.reading.dependencies import MachineTrace
 from crankbook.reading.workbook_reader import parse_reference
 from crankbook.reading.xlsx_reader import MAX_FILE, Unreadable, XlsxBook
 from crankbook.support.paths import not_a_file
@@ -30,11 +31,14 @@ MAX_FILES = 20_000
 MAX_CELLS = 10_000                 # per answer name: far more than any task has
 EXTRA_ROWS = 40                    # rows a student may insert into a table (notes, …)
 RECALC_LIMIT = 60                  # seconds per file in LibreOffice
+MAX_FORMULA_SHOWN = 120            # characters of a refused answer's formula kept
 RECALC_BUDGET = 300                # seconds of LibreOffice for all of one grade run
-# functions whose value is the grading machine's (its paths, its system) or the
-# network's: an answer using them is graded as its text, never calculated
-ENVIRONMENT = re.compile(r"(?<![A-Za-z0-9_.])(?:_xlfn\.)?(?:CELL|INFO|WEBSERVICE|FILTERXML|RTD|"
-                         r"DDE|FILENAME)\s*\(", re.I)
+
+
+class MachineDependent(str):
+    """An answer refused because its value would be the grading machine's: the
+    answer cell's own formula, as text (crankbook.reading.dependencies)."""
+    machine_dependent = True
 
 
 @dataclass
@@ -116,6 +120,7 @@ def _named_cells(book, prefix, shapes=None, labels=None):
     A table's block may have grown by rows the student inserted (up to EXTRA_ROWS);
     ``labels`` then gets the row labels beside it (column A of its rows)."""
     sheets = set(book.sheetnames)
+    trace = MachineTrace(book)
     out = {}
     for name, text in book.defined_names.items():
         if not name.startswith(prefix):
@@ -138,15 +143,18 @@ def _named_cells(book, prefix, shapes=None, labels=None):
                              f"{limit}")
         values = book.values(found.sheet, found.min_row, found.min_col, found.max_row,
                              found.max_col)
-        formulas = book.formula_texts(found.sheet, found.min_row, found.min_col, found.max_row,
-                                      found.max_col)
-        # a formula that asks about the machine (CELL, INFO) or the network is never
-        # calculated here: the answer is its text, shown as typed
-        values = [f"={formula}" if formula and ENVIRONMENT.search(formula) else value
-                  for value, formula in zip(values, formulas)]
-        out[key] = [(value, formula is not None and not
-                     (formula and ENVIRONMENT.search(formula)))
-                    for value, formula in zip(values, formulas)]
+        positions = [(r, c) for r in range(found.min_row, found.max_row + 1)
+                     for c in range(found.min_col, found.max_col + 1)]
+        formulas = [book.formula_at(found.sheet, r, c) for r, c in positions]
+        # an answer whose value would be the machine's (CELL, INFO, the network, another
+        # file — directly or down a chain of cells and names) is refused: its own
+        # formula is kept as text, never its value
+        refused = [formula is not None and trace.depends(found.sheet, r, c)
+                   for formula, (r, c) in zip(formulas, positions)]
+        values = [MachineDependent(f"={formula}"[:MAX_FORMULA_SHOWN]) if no else value
+                  for value, formula, no in zip(values, formulas, refused)]
+        out[key] = [(value, formula is not None and not no)
+                    for value, formula, no in zip(values, formulas, refused)]
         if labels is not None and limit > 1 and found.min_col > 1:
             labels[key] = book.values(found.sheet, found.min_row, 1, found.max_row, 1)
     return out

@@ -38,6 +38,8 @@ MACRO_TYPES = ("vbaProject", "macroEnabled", "activeX", "ms-office.vbaProject", 
 MACRO_MAGIC = (OLE_MAGIC, b"Attribute VB_Name")
 DECLARATION = re.compile(rb"<!\s*(DOCTYPE|ENTITY)", re.I)
 CELL = re.compile(r"([A-Z]{1,3})([0-9]{1,7})\Z")
+AREA = re.compile(r"\$?([A-Z]{1,3})\$?([0-9]{1,7}):\$?([A-Z]{1,3})\$?([0-9]{1,7})\Z")
+MAX_ARRAYS = 10_000                   # array formulas kept per sheet
 # the document properties an integrity check reads (who made the file, and when)
 CORE_PROPERTIES = ("creator", "lastModifiedBy", "created", "modified")
 
@@ -113,6 +115,7 @@ class XlsxBook:
         except ElementTree.ParseError as error:
             raise Unreadable(f"damaged XML ({error})") from None
         self._sheets = {}
+        self._shared_formulas = {}
 
     # ------------------------------------------------------------ checks
     def _check_file(self):
@@ -249,9 +252,12 @@ class XlsxBook:
             target = target.lstrip("/")
             self.sheet_part[name] = target if target.startswith("xl/") else "xl/" + target
         self.defined_names = {}
+        self.local_names = {}            # name -> text of a name local to one sheet
         for item in book.iter(f"{{{MAIN}}}definedName"):
             if item.get("localSheetId") is None and item.text:
                 self.defined_names[item.get("name")] = item.text
+            elif item.text:
+                self.local_names[item.get("name")] = item.text[:MAX_FORMULA]
                 if len(self.defined_names) > MAX_NAMES:
                     raise Unreadable(f"more than {MAX_NAMES:,} defined names: not a workbook "
                                      f"crankbook wrote")
@@ -268,6 +274,8 @@ class XlsxBook:
                 name = node.tag.rsplit("}", 1)[-1]
                 if name in CORE_PROPERTIES and node.text:
                     self.core_properties[name] = node.text.strip()[:200]
+        self.external_links = any(n.startswith("xl/externalLinks/")
+                                  for n in self.zip.namelist())
         self.custom_properties = {}
         custom = self._xml("docProps/custom.xml", required=False)
         if custom is not None:
@@ -285,6 +293,8 @@ class XlsxBook:
         if name not in self.sheet_part:
             raise Unreadable(f"sheet {name!r} does not exist")
         cells = {}
+        shared_masters, followers = {}, {}   # si -> (row, col, text); (row, col) -> si
+        arrays = []                          # (first row, col, last row, col, master)
         tag_c, tag_v, tag_f, tag_is = (f"{{{MAIN}}}c", f"{{{MAIN}}}v", f"{{{MAIN}}}f",
                                        f"{{{MAIN}}}is")
         columns = {}                     # letters -> number: a sheet has few columns
@@ -302,6 +312,16 @@ class XlsxBook:
                 cells[key] = (_value(cell, self.shared, tag_v, tag_is),
                               False if formula is None else (formula.text or "")[:MAX_FORMULA]
                               or True)
+                if formula is not None and formula.get("t") == "array" and formula.get("ref"):
+                    area = AREA.match(formula.get("ref"))
+                    if area and len(arrays) < MAX_ARRAYS:
+                        arrays.append((int(area.group(2)), _column(area.group(1)),
+                                       int(area.group(4)), _column(area.group(3)), key))
+                if formula is not None and formula.get("t") == "shared":
+                    if formula.text:
+                        shared_masters[formula.get("si")] = (*key, formula.text[:MAX_FORMULA])
+                    else:
+                        followers[key] = formula.get("si")
                 self._cells += 1
                 if self._cells > MAX_CELLS:
                     raise Unreadable(f"more than {MAX_CELLS:,} cells: not a workbook "
@@ -312,7 +332,38 @@ class XlsxBook:
             raise Unreadable(f"sheet {name!r}: damaged compressed data "
                              f"({type(error).__name__})") from None
         self._sheets[name] = cells
+        self._shared_formulas[name] = (shared_masters, followers, arrays)
         return cells
+
+    def formula_at(self, sheet, row, col):
+        """The formula of one cell as written there (a shared formula's follower gets
+        its master's text moved to the follower's place), or None."""
+        cells = self._sheet(sheet)
+        formula = cells.get((row, col), (None, False))[1]
+        masters, followers, arrays = self._shared_formulas[sheet]
+        if formula is False:             # a cell of an array formula's area is its master's
+            for r1, c1, r2, c2, master in arrays:
+                if r1 <= row <= r2 and c1 <= col <= c2 and master != (row, col):
+                    text = cells[master][1]
+                    return text if isinstance(text, str) else ""
+            return None
+        if formula is not True:
+            return formula
+        master = masters.get(followers.get((row, col)))
+        if master is None:
+            return ""
+        from crankbook.reading.dependencies import moved
+        return moved(master[2], row - master[0], col - master[1])
+
+    def formula_cells(self, sheet):
+        """(row, col) of every cell of ``sheet`` holding a formula (an array formula's
+        area: its master)."""
+        return [key for key, (_, formula) in self._sheet(sheet).items() if formula is not False]
+
+    def array_areas(self, sheet):
+        """(first row, first col, last row, last col) of each array formula's area."""
+        self._sheet(sheet)
+        return [area[:4] for area in self._shared_formulas[sheet][2]]
 
     def values(self, sheet, min_row, min_col, max_row, max_col):
         """Cell values row by row (None for empty cells)."""
