@@ -194,6 +194,72 @@ def damaged_formula(data, rng):
     return _edit_a_sheet(data, rng, change)
 
 
+MACHINE = ['CELL("filename")', 'INFO("system")', '[1]Sheet1!$A$1', 'INDIRECT("A"&ROW())',
+           'WEBSERVICE("http://x")', '_xlfn.FILTERXML("<a/>","a")']
+
+
+def _answer_cell(data, rng):
+    """(sheet part, cell) of one a_ name's first cell."""
+    parts = dict((i.filename, b) for i, b in _parts(data))
+    book = parts["xl/workbook.xml"].decode()
+    rels = parts["xl/_rels/workbook.xml.rels"].decode()
+    found = re.findall(r'<definedName name="a_[^"]+"[^>]*>\'?([^\'!<]+)\'?!\$([A-Z]+)\$(\d+)', book)
+    sheet, column, row = rng.choice(found)
+    rid = re.search(rf'<sheet name="{re.escape(sheet)}"[^>]*r:id="([^"]+)"', book)
+    target = re.search(rf'Id="{rid.group(1)}"[^>]*Target="([^"]+)"|Target="([^"]+)"[^>]*'
+                       rf'Id="{rid.group(1)}"', rels)
+    return "xl/" + (target.group(1) or target.group(2)).lstrip("/").replace("xl/", ""), \
+        f"{column}{row}"
+
+
+def machine_chain(data, rng):
+    """An answer computed from the machine: directly, through another cell, through
+    itself (a cycle), through a huge range or a shared formula with no master; the
+    cached values kept, so only the reference chain tells."""
+    part, cell = _answer_cell(data, rng)
+
+    def change(body):
+        text = body.decode()
+        others = [c for c in re.findall(r'<c r="([A-Z]+\d+)"', text) if c != cell]
+        helper = rng.choice(others)
+        taint = rng.choice(MACHINE)
+        answer = rng.choice([f"{helper}*1", f"SUM(A1:{helper})", cell, f"{helper}&{cell}",
+                             taint])
+        for ref, formula in ((helper, taint), (cell, answer)):
+            element = rf'<c r="{ref}"(?:[^>]*/>|[^>]*>.*?</c>)'
+            shape = rng.choice(["plain", "shared", "array"])
+            f = {"plain": f"<f>{formula}</f>",
+                 "shared": f'<f t="shared" si="7" ref="{ref}:{ref}">{formula}</f>',
+                 "array": f'<f t="array" ref="{ref}:XFD1048576">{formula}</f>'}[shape]
+            new = f'<c r="{ref}" t="str">{f.replace("&", "&amp;")}<v>0</v></c>'
+            text = re.sub(element, lambda m: new, text, count=1, flags=re.S)
+        if rng.random() < 0.3:                 # a follower whose master is missing
+            text = re.sub(r'<c r="([A-Z]+\d+)"([^>]*)>(<v>)', r'<c r="\1"\2><f t="shared" si="99"/>\3',
+                          text, count=3)
+        return text.encode()
+    return _rewrite(data, part, change)
+
+
+def planted_parts(data, rng):
+    """What a hostile hand-in carries for the returned file: an external link part, a
+    hyperlink, a hidden sheet state."""
+    parts = _parts(data)
+    parts.append(("xl/externalLinks/externalLink1.xml",
+                  b'<externalLink xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/'
+                  b'main"><externalBook/></externalLink>'))
+    out = []
+    for info, body in parts:
+        name = info if isinstance(info, str) else info.filename
+        if name == "xl/workbook.xml" and rng.random() < 0.5:
+            body = re.sub(rb'<sheet ([^>]*?)(?: state="[^"]*")?([^>]*)>', rb'<sheet \1\2 state="veryHidden">',
+                          body, count=1)
+        if name.startswith("xl/worksheets/sheet") and rng.random() < 0.5:
+            body = body.replace(b"</worksheet>", b'<hyperlinks><hyperlink ref="A1" '
+                                b'location="x"/></hyperlinks></worksheet>')
+        out.append((info, body))
+    return _zip(out)
+
+
 def not_a_workbook(data, rng):
     return rng.choice([b"", b"PK\x03\x04", b"\xd0\xcf\x11\xe0" + b"\0" * 600,
                        "学生作业".encode("gbk") * 50, _zip([("hello.txt", b"hi")])])
@@ -201,7 +267,7 @@ def not_a_workbook(data, rng):
 
 MUTATIONS = [flip_bytes, truncate, append_junk, delete_part, rename_part, duplicate_part,
              stored, damage_compressed, hostile_name, shrink_name, hostile_value, entity_declaration,
-             macro_part, damaged_formula, not_a_workbook]
+             macro_part, damaged_formula, not_a_workbook, machine_chain, planted_parts]
 
 
 def corpus(data, count, seed):

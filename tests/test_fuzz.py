@@ -91,11 +91,13 @@ def test_damaged_submissions_never_cost_the_valid_ones(pack, tmp_path, capsys, s
                                                b".xlsx"))
     before = tree(mixed)
 
-    code, err = run(capsys, "grade", pack, clean, "-o", tmp_path / "clean-results")
+    code, err = run(capsys, "grade", pack, clean, "-o", tmp_path / "clean-results",
+                    "--return", tmp_path / "clean-back")
     assert code == 0, err
     # the mixed batch as a user runs it: its own process, a time limit (no hang) and
     # the peak memory of it and its LibreOffice measured
-    code, err, peak = peak_memory("grade", pack, mixed, "-o", tmp_path / "mixed-results")
+    code, err, peak = peak_memory("grade", pack, mixed, "-o", tmp_path / "mixed-results",
+                                  "--return", tmp_path / "mixed-back")
     assert code == 0, err
     assert "Traceback" not in err
     assert peak < 1500, f"{peak:.0f} MB"
@@ -109,7 +111,21 @@ def test_damaged_submissions_never_cost_the_valid_ones(pack, tmp_path, capsys, s
         fields = ("status", "score", *[k for k in clean_book[sid] if k.endswith(")")])
         assert {k: mixed_book[sid][k] for k in fields} == \
                {k: clean_book[sid][k] for k in fields}, sid
+        # the valid students' returns are the same bytes whatever else was handed in
+        assert tree(tmp_path / "mixed-back")[f"{sid}.xlsx"] == \
+            tree(tmp_path / "clean-back")[f"{sid}.xlsx"], sid
     assert mixed_book[TARGET]["status"] in ("graded", "unreadable")
+    # the return of whatever file was graded for the target carries none of its parts
+    returned = tmp_path / "mixed-back" / f"{TARGET}.xlsx"
+    if mixed_book[TARGET]["status"] == "graded":
+        assert returned.is_file() or "no-return" in mixed_book[TARGET]["flags"]
+    if returned.is_file():
+        import zipfile
+        with zipfile.ZipFile(returned) as archive:
+            names = archive.namelist()
+            text = b"".join(archive.read(n) for n in names)
+        assert not any("externalLink" in n for n in names)
+        assert b"<hyperlink" not in text and b"veryHidden" not in text
     assert "multiple-submissions" in mixed_book[TARGET]["flags"]
     assert not leftovers(tmp_path)
 

@@ -681,3 +681,51 @@ def test_a_return_is_never_silently_missing(pack, tmp_path, capsys, monkeypatch)
                      (tmp_path / "back" / f"{sid}.html").read_text("utf-8")):
             assert "没有发回批改后的工作簿" in text and why in text, sid
     assert "no-return" not in rows["m001"]["flags"]
+
+
+# ------------------------------------------------- rosters in other encodings
+BIG5 = "學號,姓名\nt01,陳大文\nt02,張學友\nt03,黃家駒\nt04,林憶蓮\n"
+SHIFT_JIS = "学籍番号,氏名\nj01,山田太郎\nj02,佐藤はなこ\nj03,すずき一郎\n".replace(
+    "学籍番号", "student_id").replace("氏名", "name")
+GBK_RARE = "学号,姓名\ng01,王堃\ng02,李喆\ng03,张伟\ng04,刘洋\ng05,陈静\n"
+
+
+@pytest.mark.parametrize("text, encoding, words", [
+    (BIG5, "big5", "Big5"),
+    (SHIFT_JIS, "shift_jis", "Shift-JIS"),
+])
+def test_a_roster_in_big5_or_shift_jis_gets_one_line(tmp_path, text, encoding, words):
+    """Issue 39.9: GB18030 decodes almost any bytes, so a Taiwanese or Japanese Excel
+    roster came out as other characters' names without a word."""
+    path = tmp_path / "roster.csv"
+    path.write_bytes(text.encode(encoding))
+    done = run_cli("assign", "--roster", path, "-o", tmp_path / "out")
+    assert done.returncode == 2 and words in done.stderr and "CSV UTF-8" in done.stderr, \
+        done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and not (tmp_path / "out").exists()
+
+
+def test_a_gbk_roster_with_rare_name_characters_is_read(tmp_path):
+    from crankbook.assignment.roster import read_roster
+    path = tmp_path / "roster.csv"
+    path.write_bytes(GBK_RARE.encode("gbk"))
+    rows, _ = read_roster(path)
+    assert [r["name"] for r in rows] == ["王堃", "李喆", "张伟", "刘洋", "陈静"]
+
+
+def test_a_formula_in_a_roster_name_cell_gets_one_line(tmp_path):
+    book = openpyxl.Workbook()
+    book.active.append(["班级名单"])
+    book.active.append(["学号", "姓名"])
+    book.active.append(["20240101", "李四"])
+    book.active.append(["20240102", '=HYPERLINK("http://x","王五")'])
+    book.save(tmp_path / "r.xlsx")
+    done = run_cli("assign", "--roster", tmp_path / "r.xlsx", "-o", tmp_path / "out")
+    assert done.returncode == 2, done.stderr
+    assert "needs a student_id" in done.stderr          # a title row above the header
+    book.active.delete_rows(1)
+    book.save(tmp_path / "r.xlsx")
+    done = run_cli("assign", "--roster", tmp_path / "r.xlsx", "-o", tmp_path / "out")
+    assert done.returncode == 2 and "row 3: the name cell holds a formula" in done.stderr, \
+        done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and not (tmp_path / "out").exists()

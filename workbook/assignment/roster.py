@@ -26,7 +26,6 @@ ALIASES = {
 }
 MAX_BYTES = 10 * 1024 * 1024
 MAX_STUDENTS = 5000
-ENCODINGS = ("utf-8", "gb18030")
 
 
 def excel_text(raw, what, error=RosterError):
@@ -39,13 +38,43 @@ def excel_text(raw, what, error=RosterError):
             raise error(f"{what}: damaged UTF-16 text") from None
     if raw.startswith(b"\xef\xbb\xbf"):
         raw = raw[3:]
-    for encoding in ENCODINGS:
-        try:
-            return raw.decode(encoding)
-        except UnicodeDecodeError:
-            continue
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        pass
+    try:
+        text = raw.decode("gb18030")
+    except UnicodeDecodeError:
+        text = None
+    if text is None or _misread(text):
+        for encoding, where in (("big5", "Big5 (Excel on a Traditional Chinese Windows)"),
+                                ("shift_jis", "Shift-JIS (Excel on a Japanese Windows)")):
+            try:
+                raw.decode(encoding)
+            except UnicodeDecodeError:
+                continue
+            raise error(f"{what}: looks like {where} text, which crankbook does not guess; "
+                        f"save it from Excel as 'CSV UTF-8' or as .xlsx")
+    if text is not None:
+        return text
     raise error(f"{what}: not UTF-8, GBK/GB18030 or UTF-16 text; save it from Excel as "
                 f"'CSV UTF-8' or as .xlsx")
+
+
+def _misread(text):
+    """Whether GB18030 text reads like another encoding's bytes: kana, Greek, Cyrillic,
+    box drawing or private-use characters among Chinese ones, or more than a third of
+    the Chinese characters outside GB2312 (a roster typed in GBK uses them seldom)."""
+    odd = sum(1 for c in text if "\u3040" <= c <= "\u30ff" or "\u0370" <= c <= "\u04ff"
+              or "\u2500" <= c <= "\u257f" or "\ue000" <= c <= "\uf8ff")
+    chinese = [c for c in text if "\u4e00" <= c <= "\u9fff"]
+    rare = 0
+    for c in chinese:
+        try:
+            c.encode("gb2312")
+        except UnicodeEncodeError:
+            rare += 1
+    return odd > 0 or (len(chinese) >= 4 and rare * 3 > len(chinese))
 
 
 def _rows(path):
@@ -56,8 +85,10 @@ def _rows(path):
     if path.suffix.lower() in (".xlsx", ".xlsm"):
         try:
             book = XlsxBook(path)
-            return [["" if v is None else (str(int(v)) if isinstance(v, float) and v.is_integer()
+            rows = [["" if v is None else (str(int(v)) if isinstance(v, float) and v.is_integer()
                                            else str(v)) for v in row] for row in sheet_rows(book)]
+            first = next(s for s in book.sheetnames if s not in book.chart_sheets)
+            return rows, {key for key in book.formula_cells(first)}
         except Unreadable as reason:
             raise RosterError(f"roster {path}: {reason}") from None
     text = excel_text(path.read_bytes(), f"roster {path}")
@@ -69,7 +100,7 @@ def _rows(path):
     except csv.Error:
         dialect = csv.excel_tab if "\t" in sample and "," not in sample else csv.excel
     try:
-        return list(csv.reader(io.StringIO(text), dialect))
+        return list(csv.reader(io.StringIO(text), dialect)), set()
     except csv.Error as error:
         raise RosterError(f"roster {path}: not a readable CSV ({error})") from None
 
@@ -104,9 +135,11 @@ def id_problem(sid):
 
 def read_roster(path):
     """(rows, fields): each row a dict with student_id, name and the other columns."""
-    table = _rows(path)
+    table, formulas = _rows(path)
+    skipped = 0
     while table and not any(cell.strip() for cell in table[0]):
         table.pop(0)
+        skipped += 1
     if not table:
         raise RosterError(f"roster {path}: is empty")
     header = [cell.strip().lstrip("\ufeff") for cell in table[0]]
@@ -126,6 +159,11 @@ def read_roster(path):
             raise RosterError(f"roster {path}, row {number}: {len(cells)} cells but the header "
                               f"has {len(header)} columns")
         cells = cells + [""] * (len(header) - len(cells))
+        for field in ("student_id", "name"):
+            if (number + skipped, positions[field] + 1) in formulas:
+                raise RosterError(f"roster {path}, row {number}: the {field.replace('_', ' ')} "
+                                  f"cell holds a formula; type the {field.replace('_', ' ')} "
+                                  f"as text")
         sid = cells[positions["student_id"]].strip()
         problem = id_problem(sid)
         if problem:
