@@ -729,3 +729,23 @@ def test_a_formula_in_a_roster_name_cell_gets_one_line(tmp_path):
     assert done.returncode == 2 and "row 3: the name cell holds a formula" in done.stderr, \
         done.stderr
     assert len(done.stderr.strip().splitlines()) == 1 and not (tmp_path / "out").exists()
+
+
+def test_a_full_disk_while_writing_results_is_one_line_and_keeps_the_old(pack, tmp_path,
+                                                                          capsys, monkeypatch):
+    """Issue 39.5: the disk filling up while a run writes its folder was a traceback."""
+    import errno
+    import crankbook.assignment.grade as grade_module
+    subs = tmp_path / "subs"
+    fill(pack / "students" / "s001.xlsx", subs / "s001.xlsx", key_answers(pack, "s001"))
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r")
+    assert code == 0, err
+    before = (tmp_path / "r" / "gradebook.csv").read_bytes()
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+    monkeypatch.setattr(grade_module, "write_results", full)
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r")
+    _refused(code, err, "No space left on device", "as it was")
+    assert (tmp_path / "r" / "gradebook.csv").read_bytes() == before
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]

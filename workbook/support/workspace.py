@@ -202,14 +202,21 @@ def staged_directory(target, replace=False, command=None):
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(staging, 0o777 & ~umask)
-            if command:
-                (staging / OUTPUT_MARKER).write_text(command + "\n", encoding="utf-8")
-            yield staging
             old = None
-            if target.exists():
-                old = parent / f".{target.name}{MARK}{os.getpid()}-old"
-                os.replace(target, old)
-            os.replace(staging, target)
+            try:
+                if command:
+                    (staging / OUTPUT_MARKER).write_text(command + "\n", encoding="utf-8")
+                yield staging
+                if target.exists():
+                    old = parent / f".{target.name}{MARK}{os.getpid()}-old"
+                    os.replace(target, old)
+                os.replace(staging, target)
+            except OSError as error:       # a full disk mid-way: one line, the old folder whole
+                if old is not None and old.exists() and not target.exists():
+                    os.replace(old, target)
+                raise BuildOptionError(f"-o {target}: cannot write there "
+                                       f"({error.strerror or type(error).__name__}); the "
+                                       f"folder is as it was") from None
             if old is not None:
                 shutil.rmtree(old, ignore_errors=True)
         finally:
