@@ -21,7 +21,7 @@ from crankbook.reading.workbook_reader import parse_reference
 from crankbook.reading.xlsx_reader import Unreadable, XlsxBook
 from crankbook.support.paths import not_a_file
 
-LOST = ("not_a_number", "wrong_unit", "machine_dependent")          # cell reasons whose answer grading cannot use
+LOST = ("not_a_number", "wrong_unit", "machine_dependent", "ambiguous_number")          # cell reasons whose answer grading cannot use
 
 
 @dataclass
@@ -133,14 +133,14 @@ def check(path):
 
 def _cells_only(report, w, assignment, sub, lang):
     """Without a mechanism to place rows by: each answer cell as it stands."""
-    from crankbook.assignment.scoring import read_answer
+    from crankbook.assignment.scoring import read_answer, unread_reason
     for item in assignment.items:
         cells = []
         for number, value in enumerate(sub.answers.get(item.key, [])):
             parsed = read_answer(value)[0]
             reason = "no_answer" if value is None or value == "" else \
                 "machine_dependent" if getattr(value, "machine_dependent", False) else \
-                ("not_a_number" if parsed is None else "number")
+                (unread_reason(value) if parsed is None else "number")
             cells.append((str(number + 1), value, reason, {}))
         _report_cells(report, w, item, lang, cells or [("", None, "no_answer", {})])
     return _summary(report, w)
@@ -155,6 +155,13 @@ def _report_cells(report, w, item, lang, cells):
         if reason in LOST:
             report.lose(say(w, "check_cell", item=label, row=row or w["scalar_row"],
                             value=str(value)[:40], reason=say(w, reason, **detail)))
+    # numbers typed as text are read, but the student should know Excel will not use them
+    texts = [str(c[0]) for c in cells if isinstance(c[1], str) and c[2] not in LOST and
+             c[2] != "no_answer" and not getattr(c[1], "machine_dependent", False)]
+    if texts:
+        report.lines.append(say(w, "check_text_numbers", item=label, count=len(texts),
+                                rows=", ".join(t or w["scalar_row"] for t in texts[:8]) +
+                                (" …" if len(texts) > 8 else "")))
     if cells and len(empty) == len(cells):
         report.lose(say(w, "check_blank_item", item=label))
     elif empty:

@@ -7,7 +7,15 @@ Per cell: full credit within the item's tolerance (relative ``tolerance``, absol
   ° ↔ rad, rpm ↔ rad/s, N·m ↔ N·mm ↔ kN·m, kg·m² ↔ kg·mm², …), converted back
   and judged in the item's unit with its tolerance and floor; never for an answer
   that is zero, and only where the expected value is clearly not zero;
-* a sign slip — likewise never for zero;
+* a sign slip — never for zero, at any magnitude the floor tells from zero;
+
+an angle (crank angle φ, pressure, mounting and transmission angles) is judged in
+degrees: within the rubric's ``angle_tolerance`` (0.5° unless an item says
+otherwise), modulo 360° where the item's ``modulo`` says the statement allows it;
+an answer typed in a unit that is the asked one under another name (N·m for a
+J item, units.toml ``[answer_dimensions]``) is in the asked unit; "2,605" and
+"2，605" are thousands (2605), "2,6" a decimal comma, and "2.605,3" is refused as
+ambiguous;
 * a consequential error — right for the student's own mechanism (all their
   upstream answers, e.g. a wrong r and l), or one of its alternatives;
 
@@ -25,8 +33,15 @@ import numpy as np
 from crankbook.spec import units
 
 PLAIN = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
-COMMA_DECIMAL = re.compile(r"[+-]?[0-9]+,[0-9]+\Z")
-WITH_UNIT = re.compile(r"([+-]?(?:[0-9]+(?:[.,][0-9]*)?|[.,][0-9]+)(?:[eE][+-]?[0-9]+)?)"
+# "2,605" and "2，605" (full-width, NFKC-normalised) are thousands as Chinese (and
+# English) readers read them: groups of exactly three digits, a point after them
+THOUSANDS = re.compile(r"[+-]?[0-9]{1,3}(?:,[0-9]{3})+(?:\.[0-9]*)?\Z")
+COMMA_DECIMAL = re.compile(r"[+-]?[0-9]+,[0-9]+\Z")      # "2,6": a decimal comma
+# a point before a comma ("2.605,3"): thousands and decimals the other way round,
+# or a typo — no reader can tell
+AMBIGUOUS = re.compile(r"[+-]?[0-9]+(?:\.[0-9]{3})+,[0-9]+\Z|[+-]?[0-9.]*\.[0-9]*,[0-9,.]*\Z")
+WITH_UNIT = re.compile(r"([+-]?(?:[0-9]{1,3}(?:,[0-9]{3})+(?:\.[0-9]*)?|[0-9]+(?:[.,][0-9]*)?|"
+                       r"[.,][0-9]+)(?:[eE][+-]?[0-9]+)?)"
                        r"\s*(\S.{0,15})\Z")
 CLEARLY_NOT_ZERO = 3.0            # × the absolute floor
 
@@ -44,6 +59,8 @@ class CellResult:
 def _plain_number(text):
     if PLAIN.match(text):
         return float(text)
+    if THOUSANDS.match(text):
+        return float(text.replace(",", ""))
     if COMMA_DECIMAL.match(text):
         return float(text.replace(",", "."))
     return None
@@ -70,6 +87,17 @@ def read_answer(value):
     return None, None
 
 
+def unread_reason(value):
+    """Why a typed answer that is not empty was not read as a number: the word
+    ``ambiguous_number`` for "2.605,3", else ``not_a_number``."""
+    text = unicodedata.normalize("NFKC", str(value)).strip().replace("−", "-")
+    head = WITH_UNIT.match(text)
+    if AMBIGUOUS.match(text) or (head and AMBIGUOUS.match(text.split()[0] if " " in text
+                                                        else text)):
+        return "ambiguous_number"
+    return "not_a_number"
+
+
 def answer_number(value):
     """A typed answer as a float (see :func:`read_answer`; a unit typed after it is
     ignored); None for anything that is not a number."""
@@ -78,6 +106,20 @@ def answer_number(value):
 
 def _within(value, expected, tolerance, floor):
     return abs(value - expected) <= max(tolerance * abs(expected), floor)
+
+
+def _close(value, expected, item):
+    """Whether an answer (in the item's unit) is right: an angle within the item's
+    ``angle_tolerance`` in degrees (modulo its ``modulo`` where the statement allows
+    it), anything else within its relative tolerance or its floor."""
+    if item.angle_tolerance is None:
+        return _within(value, expected, item.tolerance, item.abs_floor)
+    per_degree = units.si_factor("deg") / units.si_factor(item.unit)
+    difference = value - expected
+    if item.modulo:
+        period = item.modulo * per_degree
+        difference = (difference + period / 2) % period - period / 2
+    return abs(difference) <= max(item.angle_tolerance * per_degree, item.abs_floor)
 
 
 def unit_slips(unit):
@@ -94,7 +136,7 @@ def unit_slips(unit):
 
 
 def _right(number, targets, item):
-    return any(np.isfinite(t) and _within(number, t, item.tolerance, item.abs_floor)
+    return any(np.isfinite(t) and _close(number, t, item)
                for t in targets)
 
 
@@ -109,14 +151,16 @@ def score_cell(label, value, expected, item, rubric, alternatives=(), consequent
         return CellResult(label, str(value), expected, 0.0, "machine_dependent", {})
     number, typed = read_answer(value)
     if number is None:
-        reason = "no_answer" if value is None or value == "" else "not_a_number"
+        reason = "no_answer" if value is None or value == "" else unread_reason(value)
         return CellResult(label, value, expected, 0.0, reason, {})
     if not np.isfinite(expected):
         return CellResult(label, value, expected, 0.0, "no_expected", {})
     tol, floor = item.tolerance, item.abs_floor
     fraction = rubric["unit_slip"]["fraction"]
+    if typed is not None and units.same_unit(typed, item.unit):
+        typed = None                       # N·m for a J item: the asked unit
     if typed is not None and typed != item.unit:
-        if not units.convertible(typed, item.unit):
+        if not units.answer_convertible(typed, item.unit):
             return CellResult(label, value, expected, 0.0, "wrong_unit",
                               {"unit": typed, "wanted": item.unit})
         number = number * units.si_factor(typed) / units.si_factor(item.unit)
@@ -124,7 +168,7 @@ def score_cell(label, value, expected, item, rubric, alternatives=(), consequent
                 _right(number, (expected, *alternatives), item):
             return CellResult(label, value, expected, fraction, "unit_slip", {"unit": typed})
         return CellResult(label, value, expected, 0.0, "wrong", {})
-    if _within(number, expected, tol, floor):
+    if _close(number, expected, item):
         return CellResult(label, value, expected, 1.0, "correct", {})
     if _right(number, alternatives, item):
         return CellResult(label, value, expected, 1.0, "alternative", {})
@@ -134,9 +178,12 @@ def score_cell(label, value, expected, item, rubric, alternatives=(), consequent
         for other, factor in unit_slips(item.unit):
             # zero is judged after converting back: 0.0222 m for 22.2 mm is no zero
             converted = number / factor
-            if abs(converted) > floor and _within(converted, expected, tol, floor):
+            if abs(converted) > floor and _close(converted, expected, item):
                 return CellResult(label, value, expected, fraction, "unit_slip", {"unit": other})
-    if "sign" in item.slips and clearly and not zero and _within(-number, expected, tol, floor):
+    # a sign slip at any magnitude the floor can tell from zero (−12.31 typed for a
+    # 12.3 N·m torque whose floor is 5 N·m): only "right but for the sign" is asked
+    if "sign" in item.slips and not zero and abs(expected) > floor and \
+            _right(-number, (expected, *alternatives), item):
         return CellResult(label, value, expected, rubric["sign_slip"]["fraction"],
                           "sign_slip", {})
     if item.consequential and _right(number, consequential, item):
@@ -150,7 +197,7 @@ def answer_in(value, unit):
     number, typed = read_answer(value)
     if number is None or typed is None or typed == unit:
         return number
-    if not units.convertible(typed, unit):
+    if not units.answer_convertible(typed, unit):
         return None
     return number * units.si_factor(typed) / units.si_factor(unit)
 

@@ -27,6 +27,8 @@ class Item:
     consequential: bool = False
     alternatives: tuple = ()      # other q_ keys that also earn full credit
     slips: tuple = SLIPS          # which partial credits apply
+    angle_tolerance: float | None = None   # deg, absolute: an angle item's tolerance
+    modulo: float | None = None   # deg: answers equal modulo this (a mounting angle)
 
     def label(self, lang):
         return self.zh if lang == "zh" else self.en
@@ -177,12 +179,20 @@ def load(name, path=None):
             raise SpecError(file, entry["key"], f"slips are {', '.join(SLIPS)}")
         if not units.known(entry["unit"]):
             raise SpecError(file, entry["key"], f"unit {entry['unit']!r} is not in units.toml")
+        angle = units.dimension(entry["unit"]) == "angle"
+        for field in ("angle_tolerance", "modulo"):
+            if field in entry and not angle:
+                raise SpecError(file, entry["key"], f"{field} is for angle items only")
         items.append(Item(key=entry["key"], points=float(entry["points"]),
                           tolerance=float(entry.get("tolerance", rubric["tolerance"])),
                           zh=entry["zh"], en=entry["en"], unit=entry["unit"],
                           abs_floor=float(entry.get("abs_floor", 0.0)),
                           consequential=bool(entry.get("consequential", False)),
-                          alternatives=tuple(entry.get("alternatives", ())), slips=slips))
+                          alternatives=tuple(entry.get("alternatives", ())), slips=slips,
+                          angle_tolerance=float(entry.get("angle_tolerance",
+                                                          rubric.get("angle_tolerance", 0.5)))
+                          if angle else None,
+                          modulo=float(entry["modulo"]) if "modulo" in entry else None))
     sheets = [AnswerSheet(key=s["key"], zh=s["zh"], en=s["en"], rows=s["rows"],
                           items=tuple(s["items"])) for s in data["sheet"]]
     placed = [k for s in sheets for k in s.items]

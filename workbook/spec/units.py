@@ -13,6 +13,23 @@ def _table():
     return resources.read_toml("units.toml")["unit"]
 
 
+def answer_convertible(typed, wanted):
+    """Whether an answer typed in ``typed`` can be read in ``wanted``: one dimension,
+    or one that ``[answer_dimensions]`` takes as it (N·m for a J item)."""
+    if dimension(typed) == dimension(wanted):
+        return True
+    also = resources.read_toml("units.toml").get("answer_dimensions", {})
+    return dimension(typed) in also.get(dimension(wanted), ())
+
+
+def same_unit(typed, wanted):
+    """Whether ``typed`` is ``wanted`` under another name (N·m for J): the answer
+    is in the asked unit, not a slip."""
+    return typed == wanted or (answer_convertible(typed, wanted) and
+                               math.isclose(si_factor(typed), si_factor(wanted),
+                                            rel_tol=1e-12))
+
+
 def normalised(text):
     """A unit as typed, made comparable: NFKC (full-width letters), lower case, no
     spaces, ·/./* as ·, ^2 and a trailing 2 as ²."""
