@@ -106,11 +106,15 @@ def graded(pack, tmp_path_factory, soffice):
     subs = tmp_path_factory.mktemp("submissions")
     student = pack / "students"
     perfect = {sid: key_answers(pack, sid) for sid in ROSTER}
-    # s01 perfect, in a nested LMS folder; s02 blank; s03 within tolerance
+    # s01 perfect, in a nested LMS folder; s02 blank; s03 within tolerance (0.4 %, and
+    # 0.3° on every angle: angles are judged in degrees)
     fill(student / "s01.xlsx", subs / "lms" / "s01_attempt1" / "course.xlsx", perfect["s01"])
     shutil.copy(student / "s02.xlsx", subs / "s02.xlsx")
+
+    def near(key, x):
+        return x + 0.3 if ASSIGNMENT.item[key].angle_tolerance is not None else x * 1.004
     fill(student / "s03.xlsx", subs / "S-s03.xlsx",
-         {k: ([x * 1.004 for x in v] if isinstance(v, list) else v * 1.004)
+         {k: ([near(k, x) for x in v] if isinstance(v, list) else near(k, v))
           for k, v in perfect["s03"].items()})
     # s04 the slider velocity in mm/s; s05 the balancing torque with its sign flipped
     fill(student / "s04.xlsx", subs / "s04.xlsx",
@@ -365,7 +369,8 @@ def test_the_statement_and_the_key_agree_on_the_resisting_torque(graded, pack):
     (100 * 30 / math.pi, 100.0, "rad/s", 0.01, "unit_slip"),   # rad/s given as rpm
     (0.1, 100.0, "mm", 0.05, "unit_slip"),                # mm given in m
     (-100.0, 100.0, "N·m", 1.0, "sign_slip"),
-    (-2.0, 2.0, "N·m", 1.0, "wrong"),                    # not clearly non-zero: no sign slip
+    (-2.0, 2.0, "N·m", 1.0, "sign_slip"),                # any magnitude the floor tells
+    (-0.8, 0.8, "N·m", 1.0, "wrong"),                    # … from zero: not this one
     ("１００", 100.0, "mm", 0.05, "correct"),            # full-width digits (an IME)
     ("５８．８１", 58.81, "m/s", 0.01, "correct"),
     ("100,0", 100.0, "mm", 0.05, "correct"),             # a decimal comma
