@@ -749,3 +749,48 @@ def test_a_full_disk_while_writing_results_is_one_line_and_keeps_the_old(pack, t
     _refused(code, err, "No space left on device", "as it was")
     assert (tmp_path / "r" / "gradebook.csv").read_bytes() == before
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+# ------------------------------------------------- LMS rows matched by a unique key
+MOODLE_HEAD = ('"Identifier","Full name","Email address","ID number","Status","Grade",'
+               '"Maximum Grade","Grade can be changed","Last modified (submission)",'
+               '"Last modified (grade)","Feedback comments"\n')
+
+
+def _moodle_row(participant, name, email="", id_number=""):
+    return (f'"Participant {participant}","{name}","{email}","{id_number}","Submitted",'
+            f'"","100.00","Yes","","",""\n')
+
+
+def test_two_students_of_one_name_never_get_each_others_moodle_grade(tmp_path, capsys):
+    """Issue 40.1: the Moodle worksheet was matched by name, so of two 张伟 the one
+    listed last took both rows — the other's grade and feedback included."""
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名\nz001,张伟\nz002,张伟\nz003,李娜\n", encoding="utf-8")
+    code, _, err = run(capsys, "assign", "--roster", roster, "--seed", "5", "-o",
+                       tmp_path / "class")
+    assert code == 0, err
+    klass = tmp_path / "class"
+    subs = tmp_path / "subs"
+    fill(klass / "students" / "z001.xlsx", subs / "z001.xlsx", key_answers(klass, "z001"))
+    worksheet = tmp_path / "moodle.csv"
+    worksheet.write_text(MOODLE_HEAD + _moodle_row(11, "张伟") + _moodle_row(12, "张伟") +
+                         _moodle_row(13, "李娜"), encoding="utf-8")
+    code, _, err = run(capsys, "grade", klass, subs, "-o", tmp_path / "r", "--lms", "moodle",
+                       "--lms-template", worksheet)
+    _refused(code, err, "row 2", "z001, z002", "email")
+    assert not (tmp_path / "r").exists()                  # refused before any work
+    # the LMS's own email (the id as its local part) or ID number tells them apart
+    worksheet.write_text(MOODLE_HEAD + _moodle_row(11, "张伟", "z002@school.edu.cn") +
+                         _moodle_row(12, "张伟", id_number="z001") + _moodle_row(13, "李娜"),
+                         encoding="utf-8")
+    code, _, err = run(capsys, "grade", klass, subs, "-o", tmp_path / "r", "--lms", "moodle",
+                       "--lms-template", worksheet)
+    assert code == 0, err
+    with open(tmp_path / "r" / "moodle-grading-worksheet.csv", newline="",
+              encoding="utf-8") as handle:
+        rows = {r["Identifier"]: r for r in csv.DictReader(handle)}
+    assert float(rows["Participant 12"]["Grade"]) == 100           # z001 handed in
+    assert rows["Participant 11"]["Grade"] == ""                    # z002 did not
+    assert "未提交" in rows["Participant 11"]["Feedback comments"]
+    assert rows["Participant 13"]["Grade"] == ""

@@ -6,7 +6,12 @@
   changed, Last modified (submission), Last modified (grade), Feedback comments).
   Moodle matches rows by its own ``Identifier`` ("Participant 1234"), so the teacher
   gives the worksheet Moodle exported (``--lms-template``); its rows are kept and
-  filled, each matched to a student by the roster's ``email`` column, else by name.
+  filled, each matched to a roster student by a key that names one student only:
+  the roster's email column, the roster id as the worksheet's ID number or as its
+  email's local part (``2023105010004@school.edu.cn``), else the full name when one
+  roster student and one worksheet row have it.  A row that only a name two
+  students share could match is refused before grading, in one line naming both —
+  one student's grade and feedback never reach another.
 * ``canvas`` — ``canvas-gradebook.csv``: Student, ID, SIS User ID, SIS Login ID,
   Section, then the assignment's column and a "Points Possible" row (Canvas's
   gradebook import); SIS User ID is the student id.
@@ -37,7 +42,7 @@ SECTION_COLUMNS = ("班级", "class", "section", "班")
 EMAIL_COLUMNS = ("email", "邮箱", "e-mail", "email address")
 
 
-def check_lms(lms, template):
+def check_lms(lms, template, roster=None):
     if lms not in LMS:
         raise CrankbookError(f"--lms {lms!r}: choose {', '.join(LMS)}")
     if template is not None and lms != "moodle":
@@ -48,7 +53,9 @@ def check_lms(lms, template):
                              "(Assignment → View all submissions → Download grading "
                              "worksheet) with --lms-template")
     if template is not None:
-        _moodle_rows(template)            # a bad worksheet is refused before grading
+        rows = _moodle_rows(template)     # a bad worksheet is refused before grading
+        if roster is not None:            # … and one no unique key matches
+            moodle_match(rows, [(r["student_id"], r["name"], r) for r in roster], template)
 
 
 def _grade_value(g, missing_as_zero):
@@ -58,10 +65,7 @@ def _grade_value(g, missing_as_zero):
 
 
 def _column(g, names):
-    for key, value in g.extra.items():
-        if key.strip().lower() in names:
-            return value
-    return ""
+    return _field(g.extra, names)
 
 
 def write_lms(directory, lms, template, assignment, lang, grades, mode, missing_as_zero):
@@ -88,20 +92,71 @@ def _moodle_rows(path):
     return rows
 
 
+def _field(record, names):
+    for key, value in record.items():
+        if str(key).strip().lower() in names:
+            return str(value).strip()
+    return ""
+
+
+def moodle_match(rows, students, template):
+    """{worksheet row number: student id}; ``students``: (id, name, roster columns).
+    A row that only a shared name could match, or two rows one student, is refused
+    (CrankbookError naming the students and the row)."""
+    header = rows[0]
+    at = {name: header.index(name) for name in header}
+
+    def cell(row, name):
+        return row[at[name]].strip() if name in at and at[name] < len(row) else ""
+    by_email, by_id, by_name = {}, {}, {}
+    for sid, name, columns in students:
+        email = _field(columns, EMAIL_COLUMNS).lower()
+        if email:
+            by_email[email] = sid
+        by_id[sid.casefold()] = sid
+        by_name.setdefault(" ".join(name.split()), []).append(sid)
+    names_in_sheet = {}
+    for row in rows[1:]:
+        key = " ".join(cell(row, "Full name").split())
+        names_in_sheet[key] = names_in_sheet.get(key, 0) + 1
+    matched, owner = {}, {}
+    for number, row in enumerate(rows[1:], start=2):
+        email = cell(row, "Email address").lower()
+        local = email.split("@")[0] if "@" in email else ""
+        id_number = cell(row, "ID number")
+        name = " ".join(cell(row, "Full name").split())
+        sid = by_email.get(email) if email else None
+        sid = sid or (by_id.get(id_number.casefold()) if id_number else None)
+        sid = sid or (by_id.get(local.casefold()) if local else None)
+        if sid is None and name in by_name:
+            same = by_name[name]
+            if len(same) > 1 or names_in_sheet.get(name, 0) > 1:
+                who = ", ".join(same)
+                raise CrankbookError(
+                    f"--lms-template {template}, row {number}: {name} is the name of "
+                    f"{'students ' + who if len(same) > 1 else 'student ' + who + ' and of several worksheet rows'}"
+                    f"; a name two people share matches nobody: add an email column to the "
+                    f"roster (or ID numbers to the Moodle worksheet)")
+            sid = same[0]
+        if sid is None:
+            continue                      # a Moodle participant not on the roster
+        if sid in owner:
+            raise CrankbookError(f"--lms-template {template}: rows {owner[sid]} and {number} "
+                                 f"both match student {sid}")
+        owner[sid], matched[number] = number, sid
+    return matched
+
+
 def _write_moodle(directory, template, assignment, lang, grades, mode, missing_as_zero):
     rows = _moodle_rows(template)
     header = rows[0]
     at = {name: header.index(name) for name in header}
-    by_email = {_column(g, EMAIL_COLUMNS).strip().lower(): g for g in grades
-                if _column(g, EMAIL_COLUMNS).strip()}
-    by_name = {g.name.strip(): g for g in grades}
+    by_id = {g.student_id: g for g in grades}
+    matched = moodle_match(rows, [(g.student_id, g.name, g.extra) for g in grades], template)
     out = [header]
-    for row in rows[1:]:
+    for number, row in enumerate(rows[1:], start=2):
         row = row + [""] * (len(header) - len(row))
-        email = row[at["Email address"]].strip().lower() if "Email address" in at else ""
-        name = row[at["Full name"]].strip() if "Full name" in at else ""
-        g = by_email.get(email) if email else None
-        g = g or by_name.get(name)
+        g = by_id.get(matched.get(number))
         if g is not None:
             row[at["Grade"]] = _grade_value(g, missing_as_zero)
             row[at["Feedback comments"]] = lms_text(g, assignment, lang, mode)

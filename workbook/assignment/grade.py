@@ -217,7 +217,7 @@ def grade(directory, submissions, output=None, feedback="full", previous=None, k
     decisions = read_overrides(overrides, {r["student_id"] for r in roster},
                                {k: i.points for k, i in assignment.item.items()}) \
         if overrides else []
-    exports.check_lms(lms, lms_template)
+    exports.check_lms(lms, lms_template, roster)
     lang = settings.get("lang", "zh")
     spec, _, preset = params.load_preset(settings["preset"])
     root = Path(submissions)
