@@ -794,3 +794,46 @@ def test_two_students_of_one_name_never_get_each_others_moodle_grade(tmp_path, c
     assert rows["Participant 11"]["Grade"] == ""                    # z002 did not
     assert "未提交" in rows["Participant 11"]["Feedback comments"]
     assert rows["Participant 13"]["Grade"] == ""
+
+
+# ------------------------------------------------- every file a student hands in is seen
+@pytest.mark.libreoffice
+def test_every_file_a_student_hands_in_is_seen(tmp_path, capsys, soffice):
+    """Issue 40.2: .ods, .xls, a zipped .xlsx, "作业.XLSX " (an upper-case suffix and a
+    trailing space) were dropped without a word and their students marked 未提交; a
+    .pdf alone made a student "missing"."""
+    from crankbook.reading import recalc
+    ids = ["f01", "f02", "f03", "f04", "f05", "f06"]
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名\n" + "".join(f"{i},学生{i}\n" for i in ids), encoding="utf-8")
+    code, _, err = run(capsys, "assign", "--roster", roster, "--seed", "5", "-o",
+                       tmp_path / "class")
+    assert code == 0, err
+    klass, subs, work = tmp_path / "class", tmp_path / "subs", tmp_path / "work"
+    for sid in ids:
+        fill(klass / "students" / f"{sid}.xlsx", work / f"{sid}.xlsx", key_answers(klass, sid))
+    (subs / "f01").mkdir(parents=True)
+    recalc.convert([work / "f01.xlsx"], work / "ods", target="ods")
+    (work / "ods" / "f01.ods").rename(subs / "f01" / "作业.ods")
+    recalc.convert([work / "f02.xlsx"], work / "xls", target="xls")
+    (work / "xls" / "f02.xls").rename(subs / "f02.xls")
+    with zipfile.ZipFile(subs / "f03.zip", "w") as archive:
+        archive.write(work / "f03.xlsx", "作业/f03.xlsx")
+        archive.writestr("__MACOSX/._f03.xlsx", b"resource fork")
+    (subs / "f04").mkdir()
+    (work / "f04.xlsx").rename(subs / "f04" / "作业.XLSX ")
+    (subs / "f05_report.pdf").write_bytes(b"%PDF-1.4 a report, not the task")
+    (subs / "notes.txt").write_text("nobody's")
+    (subs / "Thumbs.db").write_bytes(b"\0")
+    code, _, err = run(capsys, "grade", klass, subs, "-o", tmp_path / "r")
+    assert code == 0, err
+    rows = gradebook(tmp_path / "r")
+    for sid in ("f01", "f02", "f03", "f04"):
+        assert rows[sid]["status"] == "graded" and float(rows[sid]["score"]) == 100, \
+            (sid, rows[sid])
+    assert rows["f05"]["status"] == "unreadable" and ".pdf" in rows["f05"]["notes"]
+    assert rows["f06"]["status"] == "missing"
+    with open(tmp_path / "r" / "gradebook.csv", newline="", encoding="utf-8-sig") as handle:
+        unmatched = [r["notes"] for r in csv.DictReader(handle) if not r["student_id"]]
+    assert any("notes.txt" in n for n in unmatched), unmatched
+    assert not any("Thumbs" in n or "MACOSX" in n for n in unmatched), unmatched

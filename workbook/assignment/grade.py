@@ -25,12 +25,13 @@ from crankbook.assignment.key import answer_rows, expected, key_results
 from crankbook.assignment.results import FEEDBACK_MODES, words, write_results
 from crankbook.assignment.scoring import (answer_in, answer_number, pair_positions,
                                           place_rows, score_item)
-from crankbook.assignment.submissions import discover, prepare, read, recalculate
+from crankbook.assignment.submissions import (convert_foreign, discover, prepare, read,
+                                               recalculate)
 from crankbook.errors import AssignmentDirError, CrankbookError
 from crankbook.support.progress import steps
 from crankbook.support.csv_safety import as_typed
 from crankbook.support.workspace import (check_output_folder, lock, staged_directory,
-                                         sweep_temporary)
+                                         sweep_temporary, temporary_directory)
 
 KEEP = ("latest", "best")
 
@@ -281,11 +282,14 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
     earlier, earlier_suspicions = rounds.load(previous, assignment) if previous else ({}, [])
 
     shapes = answer_shapes(options.whole, lang, spec)   # every answer: positions need angles
-    subs = prepare(discover(root), root)
-    for sub in steps(subs, w["progress_reading"], progress=progress):
-        if not sub.problem:
-            read(sub, shapes)
-    recalculate(subs, shapes, progress, w["progress_recalculating"])
+    # zips unpacked and .ods/.xls/.et converted in a private scratch folder, gone after
+    with temporary_directory("unpack") as scratch:
+        subs = prepare(discover(root), root, scratch)
+        convert_foreign(subs, scratch, progress, w["progress_converting"])
+        for sub in steps(subs, w["progress_reading"], progress=progress):
+            if not sub.problem and not sub.needs_conversion:
+                read(sub, shapes)
+        recalculate(subs, shapes, progress, w["progress_recalculating"])
 
     by_id = {row["student_id"]: row for row in roster}
     _match(subs, by_id)

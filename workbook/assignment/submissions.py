@@ -1,5 +1,15 @@
 """Returned workbooks: found, read and recalculated one at a time.
 
+Every file under the submissions folder is seen: .xlsx read as it is; .ods, .xls,
+.xlsb, WPS's .et (and their templates) made .xlsx by LibreOffice first; a .zip
+unpacked (bounded: 100 files, no nesting, no bombs, no encryption) with each
+workbook inside a submission of its own; anything else (a .pdf, a photo) is a
+submission whose reason says it is no workbook, so a student who handed in only
+that is "unreadable: …", never "missing", and a file nobody owns is listed for the
+teacher.  Suffixes are read in any case and with trailing spaces ("作业.XLSX ");
+only what an operating system leaves (Office lock files, Thumbs.db, .DS_Store,
+__MACOSX) is passed over.
+
 Every submission is untrusted.  Each is read by the bounded reader
 (crankbook.reading.xlsx_reader) on its own; any failure — a refusal, a damaged part, or an
 error no one foresaw — makes that file ``unreadable`` with a reason in words and
@@ -26,8 +36,15 @@ from crankbook.support.paths import not_a_file
 from crankbook.support.progress import waiting
 from crankbook.support.workspace import temporary_directory
 
-SUFFIXES = (".xlsx", ".xlsm", ".xls", ".xltx", ".xltm")
+READ = (".xlsx", ".xltx", ".xlsm", ".xltm")     # read as they are (macros: refused)
+# converted to .xlsx by LibreOffice first: Excel 97–2003, binary, OpenDocument, WPS
+CONVERT = (".xls", ".xlt", ".xlsb", ".ods", ".ots", ".fods", ".et", ".ett")
+ARCHIVES = (".zip",)
+# what an operating system leaves in a folder: never a student's work, never listed
+SYSTEM_FILES = ("thumbs.db", "desktop.ini", ".ds_store")
+SYSTEM_FOLDERS = ("__MACOSX",)
 MAX_FILES = 20_000
+MAX_MEMBERS = 100                  # files in one handed-in zip
 MAX_CELLS = 10_000                 # per answer name: far more than any task has
 EXTRA_ROWS = 40                    # rows a student may insert into a table (notes, …)
 RECALC_LIMIT = 60                  # seconds per file in LibreOffice
@@ -59,6 +76,7 @@ class Submission:
     row_labels: dict = field(default_factory=dict)   # answer key -> labels beside its rows
     metadata: dict = field(default_factory=dict)     # creator, last saved by, created, …
     placement: dict = field(default_factory=dict)    # answer key -> key row of each file row
+    needs_conversion: bool = False # a .ods, .xls, .et, …: LibreOffice makes it an .xlsx
 
 
 def shown_name(path, root):
@@ -67,17 +85,30 @@ def shown_name(path, root):
     return relative.decode("utf-8", "replace").replace("\ufffd", "?")
 
 
+def suffix_of(name):
+    """A file's kind as a person names it: the suffix in lower case, trailing spaces
+    and dots (a Windows upload's "作业.XLSX ") ignored."""
+    return os.path.splitext(name.rstrip(" .\t"))[1].lower()
+
+
+def _system_file(name):
+    return name.lower() in SYSTEM_FILES or name.startswith(("~$", "._", "."))
+
+
 def discover(root):
-    """Every workbook-like file under ``root`` (nested folders, any names), sorted."""
+    """Every file under ``root`` (nested folders, any names), sorted — workbooks of
+    any format, archives and whatever else a student uploaded (a .pdf is listed for
+    the teacher, never dropped unseen); only what an operating system leaves (Office
+    lock files, Thumbs.db, .DS_Store, __MACOSX) is passed over."""
     root = Path(root)
     found = []
     for folder, directories, files in os.walk(root):
-        directories.sort()
+        directories[:] = sorted(d for d in directories if d not in SYSTEM_FOLDERS)
         for name in sorted(files):
-            if name.lower().endswith(SUFFIXES) and not name.startswith("~$"):
+            if not _system_file(name):
                 found.append(Path(folder) / name)
                 if len(found) > MAX_FILES:
-                    raise CrankbookError(f"{root}: more than {MAX_FILES} workbooks; give the "
+                    raise CrankbookError(f"{root}: more than {MAX_FILES} files; give the "
                                          f"folder of one class")
     return found
 
@@ -94,7 +125,9 @@ def _not_regular(path, root):
     return f"{reason}: not read" if reason else None
 
 
-def prepare(paths, root):
+def prepare(paths, root, scratch=None):
+    """A Submission per file (a zip: one per workbook inside, unpacked into
+    ``scratch``); what cannot be graded carries its reason."""
     subs = []
     for path in paths:
         sub = Submission(path=path, relative=shown_name(path, root))
@@ -108,11 +141,135 @@ def prepare(paths, root):
             if sub.size > MAX_FILE:
                 sub.problem = f"file is {sub.size / 1e6:.0f} MB, more than {MAX_FILE // 2**20} MB"
             else:
-                sub.digest = hashlib.sha256(path.read_bytes()).hexdigest()
+                data = path.read_bytes()
+                sub.digest = hashlib.sha256(data).hexdigest()
+                if suffix_of(path.name) in ARCHIVES and scratch is not None:
+                    inner = _unpack(sub, data, Path(scratch))
+                    if inner:
+                        subs.extend(inner)
+                        continue
+                else:
+                    _classify(sub, path.name, data)
         except OSError as error:
             sub.problem = f"cannot be opened ({error.strerror})"
         subs.append(sub)
     return subs
+
+
+def _classify(sub, name, data):
+    """Whether ``sub`` is read as it is, converted first, or not a workbook (reason)."""
+    suffix = suffix_of(name)
+    # an Office Open zip names its content types in the local header or the directory
+    office_open = data.startswith(b"PK") and (b"[Content_Types].xml" in data[:65536] or
+                                              b"[Content_Types].xml" in data[-65536:])
+    if suffix in CONVERT and not office_open:
+        sub.needs_conversion = True           # an .xlsx named .xls is read as it is
+    elif suffix not in READ and suffix not in CONVERT:
+        sub.problem = f"not a workbook ({suffix or 'a file without a suffix'}): hand in " \
+                      f"the task's .xlsx"
+
+
+def _unpack(sub, data, scratch):
+    """The workbooks inside a handed-in zip, each a Submission of its own (named
+    ``archive.zip/inner.xlsx``), unpacked under numbered names into ``scratch`` —
+    or [] with ``sub.problem`` saying why none."""
+    import io
+    import zipfile
+    from crankbook.reading.xlsx_reader import MAX_RATIO, MAX_UNPACKED
+    try:
+        archive = zipfile.ZipFile(io.BytesIO(data))
+        members = [m for m in archive.infolist() if not m.is_dir() and not any(
+            part in SYSTEM_FOLDERS for part in m.filename.split("/")) and
+            not _system_file(m.filename.rsplit("/", 1)[-1])]
+        if len(members) > MAX_MEMBERS:
+            sub.problem = f"a zip of {len(members)} files: hand in the task's .xlsx"
+            return []
+        if sum(m.file_size for m in members) > MAX_UNPACKED or any(
+                m.file_size > MAX_FILE or (m.file_size > 2**20 and
+                                           m.file_size > MAX_RATIO * max(m.compress_size, 1))
+                for m in members):
+            sub.problem = "a zip that unpacks to more than any task (zip bomb?): not opened"
+            return []
+        if any(m.flag_bits & 0x1 for m in members):
+            sub.problem = "an encrypted zip: not opened"
+            return []
+        out = []
+        for member in members:
+            name = member.filename.rsplit("/", 1)[-1]
+            inner = Submission(path=sub.path, relative=f"{sub.relative}/{member.filename}",
+                               size=member.file_size, mtime=sub.mtime)
+            if suffix_of(name) in ARCHIVES:
+                inner.problem = "a zip inside a zip: not opened"
+            else:
+                body = archive.read(member)
+                inner.digest = hashlib.sha256(body).hexdigest()
+                _classify(inner, name, body)
+                if not inner.problem:
+                    scratch.mkdir(parents=True, exist_ok=True)
+                    inner.path = scratch / f"zip-{len(list(scratch.iterdir())):05d}" \
+                        f"{suffix_of(name)}"
+                    inner.path.write_bytes(body)
+            out.append(inner)
+        if not any(not s.problem for s in out):
+            sub.problem = "a zip with no workbook inside: hand in the task's .xlsx"
+            return []
+        return out
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, NotImplementedError, EOFError,
+            RuntimeError, ValueError) as error:
+        sub.problem = f"a damaged zip ({type(error).__name__})"
+        return []
+
+
+def convert_foreign(subs, scratch, progress=None, what="grade: converting to .xlsx"):
+    """.ods, .xls, .xlsb, .et, … made .xlsx by LibreOffice (within the run's engine
+    budget); a file it cannot convert keeps the reason."""
+    pending = [s for s in subs if s.needs_conversion and not s.problem]
+    if not pending:
+        return
+    with waiting(f"{what} ({len(pending)})", progress):
+        for sub, output in zip(pending, _through_engine(pending, Path(scratch) / "convert")):
+            suffix = suffix_of(sub.relative)
+            if isinstance(output, Path):
+                sub.path, sub.needs_conversion = output, False
+            else:
+                sub.problem = f"a {suffix} file LibreOffice could not convert to .xlsx " \
+                              f"({output})"
+
+
+def _through_engine(subs, tmp):
+    """Each submission's file through LibreOffice, saved as .xlsx: the output path, or
+    the reason in words.  All together first; where that fails or times out, one by
+    one with RECALC_LIMIT s each, within RECALC_BUDGET s for all (hostile files cost
+    the run at most the budget)."""
+    tmp = Path(tmp)
+    staged = []
+    for number, sub in enumerate(subs):
+        target = tmp / "in" / f"{number:05d}{suffix_of(sub.path.name) or '.xlsx'}"
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_bytes(sub.path.read_bytes())
+        staged.append(target)
+    deadline = time.monotonic() + RECALC_BUDGET
+    try:
+        outputs = recalc.convert(staged, tmp / "batch",
+                                 timeout=min(RECALC_LIMIT + 5 * len(staged), RECALC_BUDGET))
+    except CrankbookError:
+        outputs = [None] * len(staged)
+    results = []
+    for source, output in zip(staged, outputs):
+        if output is not None and output.is_file():
+            results.append(output)
+            continue
+        left = deadline - time.monotonic()
+        if left < 5:
+            results.append(f"the run's LibreOffice time ({RECALC_BUDGET} s) was spent on "
+                           f"other files")
+            continue
+        try:
+            results.append(recalc.convert([source], tmp / f"one-{source.stem}",
+                                          timeout=min(RECALC_LIMIT, int(left)))[0])
+        except CrankbookError as error:
+            results.append(_safe_reason(error))
+    return results
 
 
 def _named_cells(book, prefix, shapes=None, labels=None):
@@ -204,33 +361,11 @@ def recalculate(subs, shapes, progress=None, what="grade: recalculating in Libre
     if not pending:
         return
     with temporary_directory("grade") as tmp, waiting(f"{what} ({len(pending)})", progress):
-        tmp = Path(tmp)
-        staged = []
-        for number, sub in enumerate(pending):
-            target = tmp / "in" / f"{number:05d}.xlsx"
-            target.parent.mkdir(exist_ok=True)
-            target.write_bytes(sub.path.read_bytes())
-            staged.append(target)
-        deadline = time.monotonic() + RECALC_BUDGET
-        try:
-            outputs = recalc.convert(staged, tmp / "batch",
-                                     timeout=min(RECALC_LIMIT + 5 * len(staged), RECALC_BUDGET))
-        except CrankbookError:
-            outputs = [None] * len(staged)
-        for sub, source, output in zip(pending, staged, outputs):
-            if output is None or not output.is_file():
-                left = deadline - time.monotonic()
-                if left < 5:                 # hostile files cost the run at most the budget
-                    sub.problem = (f"saved without values, and the run's LibreOffice time "
-                                   f"({RECALC_BUDGET} s) was spent on other files")
-                    continue
-                try:
-                    output = recalc.convert([source], tmp / f"one-{source.stem}",
-                                            timeout=min(RECALC_LIMIT, int(left)))[0]
-                except CrankbookError as error:
-                    sub.problem = f"saved without values, and LibreOffice could not " \
-                                  f"recalculate it ({_safe_reason(error)})"
-                    continue
+        for sub, output in zip(pending, _through_engine(pending, Path(tmp))):
+            if not isinstance(output, Path):
+                sub.problem = f"saved without values, and LibreOffice could not " \
+                              f"recalculate it ({output})"
+                continue
             read(sub, shapes, path=output)
             if not sub.problem and sub.needs_recalc:
                 sub.needs_recalc = False
