@@ -837,3 +837,48 @@ def test_every_file_a_student_hands_in_is_seen(tmp_path, capsys, soffice):
         unmatched = [r["notes"] for r in csv.DictReader(handle) if not r["student_id"]]
     assert any("notes.txt" in n for n in unmatched), unmatched
     assert not any("Thumbs" in n or "MACOSX" in n for n in unmatched), unmatched
+
+
+# ------------------------------------------------- ids stay text
+def test_ids_stay_text_in_the_gradebook_and_rosters_say_when_they_were_not(tmp_path, capsys):
+    """Issue 40.10: a 12-digit 学号 opened from gradebook.csv in Excel read 2.31E+11 and
+    lost its leading zero; a roster with a merged title row above the header was
+    refused; ids stored as numbers passed without a word."""
+    book = openpyxl.Workbook()
+    sheet = book.active
+    sheet.append(["2023级机械1班 名单"])
+    sheet.merge_cells("A1:C1")
+    sheet.append(["学号", "姓名", "班级"])
+    sheet.append(["023105010004", "王一", "机械1班"])
+    sheet.append([23105010005, "王二", "机械1班"])           # typed as a number
+    book.save(tmp_path / "roster.xlsx")
+    code, _, err = run(capsys, "assign", "--roster", tmp_path / "roster.xlsx", "--seed", "5",
+                       "-o", tmp_path / "class")
+    assert code == 0, err
+    assert "stored as numbers" in err and "row 4" in err and "11 and 12" in err, err
+    klass = tmp_path / "class"
+    subs = tmp_path / "subs"
+    fill(klass / "students" / "023105010004.xlsx", subs / "023105010004.xlsx",
+         key_answers(klass, "023105010004"))
+    code, _, err = run(capsys, "grade", klass, subs, "-o", tmp_path / "r")
+    assert code == 0, err
+    text = (tmp_path / "r" / "gradebook.csv").read_text(encoding="utf-8-sig")
+    # ="023105010004", unquoted: Excel's own way to keep an id text in a CSV
+    assert '\n="023105010004",' in text and '\n="23105010005",' in text, text[:300]
+    assert '\n"王' not in text                             # names stay quoted text
+    sheet = openpyxl.load_workbook(tmp_path / "r" / "gradebook.xlsx").active
+    ids = [c.value for c in sheet["A"]]
+    assert "023105010004" in ids and "23105010005" in ids, ids
+    # lms-import.csv is for the LMS: the id exactly as it knows it
+    assert "\n\"023105010004\"," in (tmp_path / "r" / "lms-import.csv").read_text("utf-8-sig")
+    # a second round reads the first one's ids back
+    code, _, err = run(capsys, "grade", klass, subs, "-o", tmp_path / "r2", "--previous",
+                       tmp_path / "r")
+    assert code == 0, err
+
+
+def test_a_ragged_roster_row_is_refused(tmp_path, capsys):
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名,班级\nr01,甲,1班\nr02,乙\n", encoding="utf-8")
+    code, _, err = run(capsys, "assign", "--roster", roster, "-o", tmp_path / "class")
+    _refused(code, err, "row 3", "2 cells but the header has 3 columns")

@@ -22,7 +22,7 @@ from crankbook.assignment.key import answer_rows, given_trace, key_results
 from crankbook.assignment.roster import read_roster
 from crankbook.assignment.student_book import write_student_workbook
 from crankbook.assignment.variants import draw_class, fingerprint
-from crankbook.support.csv_safety import csv_text
+from crankbook.support.csv_safety import csv_text, kept_text
 from crankbook.assignment.results import words
 from crankbook.support.progress import steps, waiting
 from crankbook.support.workspace import check_directory, staged_directory
@@ -119,7 +119,8 @@ def assign(preset, roster_path, seed, lang, outdir, progress=None, groups=None,
         table = [["student_id", "name", *extra, *[f"p_{k}" for k in keys], "fingerprint"]]
         for row in rows:
             values = variants[row["student_id"]]
-            table.append([row["student_id"], row["name"], *[row.get(f, "") for f in extra],
+            table.append([kept_text(row["student_id"]), row["name"],
+                          *[kept_text(row.get(f, "")) for f in extra],
                           *[_manifest_value(values[k]) for k in keys], fingerprint(values, keys)])
         (staging / MANIFEST).write_text(csv_text(table), encoding="utf-8-sig", newline="")
         # the class keeps the template it was assigned with: grade reads this copy

@@ -31,7 +31,7 @@ import xlsxwriter
 
 from crankbook.support import resources
 from crankbook.assignment import rounds
-from crankbook.support.csv_safety import csv_text
+from crankbook.support.csv_safety import csv_text, kept_text
 from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.layout import unit_text
 from crankbook.writer.print_setup import landscape_page, row_points, wide_table_page
@@ -133,7 +133,8 @@ def gradebook_rows(assignment, lang, grades, unmatched, missing_as_zero):
         if g.problem:
             notes.append(say(w, "status_unreadable", reason=reason_text(g.problem, lang)))
         graded = g.status == "graded"
-        rows.append([g.student_id, g.name, *[g.extra.get(f, "") for f in extra], g.status,
+        rows.append([kept_text(g.student_id), g.name,
+                     *[kept_text(g.extra.get(f, "")) for f in extra], g.status,
                      w.get(f"state_{g.status}", g.status),
                      round(g.score, 2) if graded else (0 if missing_as_zero else ""),
                      assignment.max_score, ";".join(g.flags),

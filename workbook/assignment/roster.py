@@ -78,6 +78,8 @@ def _misread(text):
 
 
 def _rows(path):
+    """(rows of text, {(row, col) holding a formula}, whether rows may be short): an
+    .xlsx's rows lose their trailing empty cells, a CSV's never do."""
     path = Path(path)
     require_file(path, RosterError, "roster")
     if path.stat().st_size > MAX_BYTES:
@@ -88,7 +90,9 @@ def _rows(path):
             rows = [["" if v is None else (str(int(v)) if isinstance(v, float) and v.is_integer()
                                            else str(v)) for v in row] for row in sheet_rows(book)]
             first = next(s for s in book.sheetnames if s not in book.chart_sheets)
-            return rows, {key for key in book.formula_cells(first)}
+            numbers = {(r, c) for (r, c), (v, _) in book._sheet(first).items()
+                       if isinstance(v, float)}
+            return rows, {key for key in book.formula_cells(first)}, numbers
         except Unreadable as reason:
             raise RosterError(f"roster {path}: {reason}") from None
     text = excel_text(path.read_bytes(), f"roster {path}")
@@ -100,7 +104,7 @@ def _rows(path):
     except csv.Error:
         dialect = csv.excel_tab if "\t" in sample and "," not in sample else csv.excel
     try:
-        return list(csv.reader(io.StringIO(text), dialect)), set()
+        return list(csv.reader(io.StringIO(text), dialect)), set(), None
     except csv.Error as error:
         raise RosterError(f"roster {path}: not a readable CSV ({error})") from None
 
@@ -135,14 +139,14 @@ def id_problem(sid):
 
 def read_roster(path):
     """(rows, fields): each row a dict with student_id, name and the other columns."""
-    table, formulas = _rows(path)
-    skipped = 0
-    while table and not any(cell.strip() for cell in table[0]):
-        table.pop(0)
-        skipped += 1
+    table, formulas, numbers = _rows(path)
+    skipped = _title_rows(table)
+    table = table[skipped:]
     if not table:
         raise RosterError(f"roster {path}: is empty")
     header = [cell.strip().lstrip("\ufeff") for cell in table[0]]
+    while header and not header[-1]:
+        header.pop()
     positions = {field: _column(header, field) for field in ALIASES}
     for field, index in positions.items():
         if index is None:
@@ -151,23 +155,30 @@ def read_roster(path):
             raise RosterError(f"roster {path}: needs a {names} column (has: "
                               f"{', '.join(h for h in header if h) or 'no header'})")
     extras = [(i, h) for i, h in enumerate(header) if i not in positions.values() and h]
-    rows, seen = [], {}
+    rows, seen, stored = [], {}, []
     for number, cells in enumerate(table[1:], start=2):
         if not any(cell.strip() for cell in cells):
             continue
-        if len(cells) > len(header) and any(c.strip() for c in cells[len(header):]):
-            raise RosterError(f"roster {path}, row {number}: {len(cells)} cells but the header "
-                              f"has {len(header)} columns")
+        used = len(cells)
+        while used and not cells[used - 1].strip():
+            used -= 1
+        short = numbers is None and len(cells) < len(header)     # a CSV row cut short
+        if used > len(header) or short:
+            raise RosterError(f"roster {path}, row {number + skipped}: "
+                              f"{used if used > len(header) else len(cells)} cells but the "
+                              f"header has {len(header)} columns")
         cells = cells + [""] * (len(header) - len(cells))
         for field in ("student_id", "name"):
             if (number + skipped, positions[field] + 1) in formulas:
-                raise RosterError(f"roster {path}, row {number}: the {field.replace('_', ' ')} "
+                raise RosterError(f"roster {path}, row {number + skipped}: the {field.replace('_', ' ')} "
                                   f"cell holds a formula; type the {field.replace('_', ' ')} "
                                   f"as text")
         sid = cells[positions["student_id"]].strip()
+        if numbers and (number + skipped, positions["student_id"] + 1) in numbers:
+            stored.append(number + skipped)
         problem = id_problem(sid)
         if problem:
-            raise RosterError(f"roster {path}, row {number}: student id {sid[:40]!r} {problem}")
+            raise RosterError(f"roster {path}, row {number + skipped}: student id {sid[:40]!r} {problem}")
         if sid.casefold() in seen:             # s1 and S1 are one file on Windows and macOS
             other, row = seen[sid.casefold()]
             same = "is also" if other == sid else f"differs only in case from {other!r},"
@@ -181,4 +192,36 @@ def read_roster(path):
             raise RosterError(f"roster {path}: more than {MAX_STUDENTS} students")
     if not rows:
         raise RosterError(f"roster {path}: has no students")
+    _warn_about_ids(path, rows, stored)
     return rows, ["student_id", "name"] + [title for _, title in extras]
+
+
+def _title_rows(table, looked_at=10):
+    """Rows above the header: empty ones, and a title ("2023级机械1班名单", merged
+    across the columns) — the header is the first of the first ``looked_at`` rows
+    that names both an id and a name column."""
+    for index, cells in enumerate(table[:looked_at]):
+        header = [cell.strip().lstrip("\ufeff") for cell in cells]
+        if all(_column(header, field) is not None for field in ALIASES):
+            return index
+    index = 0
+    while index < len(table) and not any(cell.strip() for cell in table[index]):
+        index += 1
+    return index
+
+
+def _warn_about_ids(path, rows, stored):
+    """A warning where ids look mangled: stored as numbers in an .xlsx (leading zeros
+    gone) or all digits of different lengths (one lost a zero?)."""
+    import warnings
+    from crankbook.errors import CrankbookWarning
+    if stored:
+        warnings.warn(CrankbookWarning(
+            f"roster {path}: {len(stored)} student id(s) are stored as numbers in the "
+            f"workbook (row {stored[0]} first): a leading zero would be lost; format the "
+            f"id column as text"), stacklevel=3)
+    lengths = sorted({len(r["student_id"]) for r in rows if r["student_id"].isdigit()})
+    if len(lengths) > 1:
+        warnings.warn(CrankbookWarning(
+            f"roster {path}: the all-digit student ids have {' and '.join(map(str, lengths))} "
+            f"digits: did a spreadsheet drop leading zeros?"), stacklevel=3)

@@ -19,6 +19,7 @@ from pathlib import Path
 from crankbook.assignment.integrity import Suspicion
 from crankbook.assignment.scoring import CellResult
 from crankbook.errors import CrankbookError
+from crankbook.support.csv_safety import as_typed
 
 FILE = "grades.json"
 MAX_BYTES = 50 * 1024 * 1024
@@ -145,7 +146,7 @@ def _legacy(folder, assignment):
             for number, row in enumerate(csv.DictReader(handle), start=2):
                 if row.get("status") != "graded":
                     continue
-                g = Grade(student_id=row["student_id"], name=row.get("name", ""),
+                g = Grade(student_id=as_typed(row["student_id"]), name=row.get("name", ""),
                           status="graded")
                 for item in assignment.items:
                     column = next((c for c in row if c and c.endswith(f"(a_{item.key})")), None)
