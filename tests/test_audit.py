@@ -542,3 +542,48 @@ def test_audit_names_a_student_workbook_and_a_key(tmp_path):
     assert "crankbook grade" in done.stderr and "Traceback" not in done.stderr
     done = run_cli("audit", tmp_path / "cls" / "keys" / "2024001.xlsx")
     assert done.returncode == 0 and "an answer key of assignment" in done.stdout
+
+
+def _input_cell(path, name):
+    book = openpyxl.load_workbook(path)
+    sheet, ref = next(iter(book.defined_names[name].destinations))
+    return book.sheetnames.index(sheet) + 1, ref.replace("$", ""), book[sheet][ref.replace("$", "")].value
+
+
+def test_an_input_changed_without_recalculation_is_one_finding(built, tmp_path):
+    """Issue 40.15: a p_bore typed over with calculation set to manual (or written by a
+    script) gave one line per stale cell — tens of thousands; it is one finding that
+    names the input and counts the stale cells per name."""
+    sheet_index, cell, bore = _input_cell(built, "p_bore")
+    stale = tmp_path / "stale.xlsx"
+    shutil.copy(built, stale)
+    _set_cached_value(stale, sheet_index, cell, repr(bore * 1.09))
+    done = run_cli("audit", stale)
+    assert done.returncode == 1, done.stdout + done.stderr
+    lines = [l for l in done.stdout.splitlines() if l.startswith("  ")]
+    assert len(lines) == 1, done.stdout[:2000]
+    assert "not recalculated after p_bore changed" in lines[0] and "q_" in lines[0]
+    # a result typed over on top of that is still its own finding
+    torque = openpyxl.load_workbook(built).sheetnames.index("Torque") + 1
+    _set_cached_value(stale, torque, "B12", "999.5")
+    done = run_cli("audit", stale)
+    lines = [l for l in done.stdout.splitlines() if l.startswith("  ")]
+    assert len(lines) == 2 and "not recalculated after p_bore" in lines[0], done.stdout[:2000]
+    assert "'Torque'!B12" in lines[1] and "999.5" in lines[1]
+
+
+def test_a_deleted_input_name_is_a_finding(built, tmp_path):
+    """Issue 40.15: deleting p_bore's name made the audit recompute with the default
+    bore and say "every q_ cell agrees" of a workbook someone altered."""
+    altered = tmp_path / "altered.xlsx"
+    with zipfile.ZipFile(built) as source:
+        items = {n: source.read(n) for n in source.namelist()}
+    items["xl/workbook.xml"] = re.sub(rb'<definedName name="p_bore"[^>]*>[^<]*</definedName>',
+                                      b"", items["xl/workbook.xml"])
+    with zipfile.ZipFile(altered, "w", zipfile.ZIP_DEFLATED) as target:
+        for name, data in items.items():
+            target.writestr(name, data)
+    done = run_cli("audit", altered)
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "p_bore" in done.stdout and "input name is missing" in done.stdout
+    assert "every q_ cell agrees" not in done.stdout

@@ -722,7 +722,7 @@ def test_a_formula_in_a_roster_name_cell_gets_one_line(tmp_path):
     book.save(tmp_path / "r.xlsx")
     done = run_cli("assign", "--roster", tmp_path / "r.xlsx", "-o", tmp_path / "out")
     assert done.returncode == 2, done.stderr
-    assert "needs a student_id" in done.stderr          # a title row above the header
+    assert "row 4: the name cell holds a formula" in done.stderr   # below a title row
     book.active.delete_rows(1)
     book.save(tmp_path / "r.xlsx")
     done = run_cli("assign", "--roster", tmp_path / "r.xlsx", "-o", tmp_path / "out")
@@ -882,3 +882,33 @@ def test_a_ragged_roster_row_is_refused(tmp_path, capsys):
     roster.write_text("学号,姓名,班级\nr01,甲,1班\nr02,乙\n", encoding="utf-8")
     code, _, err = run(capsys, "assign", "--roster", roster, "-o", tmp_path / "class")
     _refused(code, err, "row 3", "2 cells but the header has 3 columns")
+
+
+# ------------------------------------------------- a copied section
+def test_a_copied_section_is_flagged_for_the_teacher(pack, tmp_path, capsys):
+    """Issue 40.9: a student who did the mechanism alone but copied a classmate's
+    valve train fitted their own key overall and went unflagged."""
+    from crankbook.assignment import template
+    assignment = template.for_preset("course-design")
+    valve = next(s for s in assignment.sheets if s.key == "valve_train")
+    subs = tmp_path / "subs"
+    own, theirs = key_answers(pack, "s001"), key_answers(pack, "s002")
+    copied = {k: (theirs[k] if k in valve.items else v) for k, v in own.items()}
+    assert any(copied[k] != own[k] for k in valve.items)      # the valve trains differ
+    fill(pack / "students" / "s001.xlsx", subs / "s001.xlsx", copied)
+    fill(pack / "students" / "s002.xlsx", subs / "s002.xlsx", theirs)
+    code, _, err = run(capsys, "grade", pack, subs, "-o", tmp_path / "r")
+    assert code == 0, err
+    rows = gradebook(tmp_path / "r")
+    assert "copy-suspect" in rows["s001"]["flags"], rows["s001"]
+    assert "copy-suspect" not in rows["s002"]["flags"]
+    sheet = openpyxl.load_workbook(tmp_path / "r" / "integrity.xlsx").active
+    text = " ".join(str(c.value) for row in sheet.iter_rows() for c in row if c.value)
+    assert "某一部分的答案符合他人的参数" in text and valve.zh in text, text
+    assert "creator" not in text and "sha256" not in text          # labels in Chinese
+    feedback = (tmp_path / "r" / "feedback" / "s001.md").read_text(encoding="utf-8")
+    assert "s002" not in feedback
+    report = openpyxl.load_workbook(tmp_path / "r" / "class-report.xlsx")
+    shown = " ".join(str(c.value) for ws in report.worksheets for row in ws.iter_rows()
+                     for c in row if c.value)
+    assert "抄" not in shown and "吻合" not in shown, shown          # no suspicion shown

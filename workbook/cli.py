@@ -385,7 +385,7 @@ def _audit_workbook(path):
               f"{path}: the results that hang on those inputs are blank, as they should be; "
               f"every other q_ cell agrees ({_what_it_is(path, spec)})")
         return 1 if rule_message else 0
-    print(f"{path}: {len(findings)} cell(s) disagree with the recomputation from the p_ cells:")
+    print(f"{path}: {len(findings)} finding(s) against the recomputation from the p_ cells:")
     for f in findings:
         expected = "" if f.expected != f.expected else f" (expected {f.expected:.6g})"
         shown = "" if f.stored is None and f.expected != f.expected else f": {f.stored!r}"

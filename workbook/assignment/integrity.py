@@ -17,6 +17,7 @@ from crankbook.assignment.scoring import answer_in
 FIT = 0.6                 # share of a student's answered cells right for another key
 MARGIN = 0.25             # … and this much better than for their own key
 ANSWERED = 5              # cells a file must answer before its fit means anything
+SECTION_ANSWERED = 3      # … and a section (one answer sheet: a table, the valve train)
 
 
 @dataclass
@@ -38,10 +39,10 @@ def numeric_answers(sub, assignment):
     return out
 
 
-def fit(answers, want, assignment):
+def fit(answers, want, assignment, only=None):
     """(right, answered): how many of the answered cells meet this key, positions paired
     by the nearest of its crank angles, the other rows by order (vectorised: a class
-    is held against every key)."""
+    is held against every key); ``only``: the item keys of one section."""
     rubric_rows = {s.rows for s in assignment.sheets}
     positions = assignment.positions
     order = None
@@ -57,6 +58,8 @@ def fit(answers, want, assignment):
     position_items = {k for s in assignment.sheets if s.rows == "positions" for k in s.items}
     right = answered = 0
     for item in assignment.items:
+        if only is not None and item.key not in only:
+            continue
         mine = answers.get(item.key, np.array([]))
         target = want[item.key]["value"]
         if item.key in position_items and order is not None:
@@ -105,6 +108,25 @@ def find(grades, chosen, answers, keys, assignment):
             if other >= FIT and other >= (own or 0.0) + MARGIN:
                 add(i, j, "fits_other", (fits.get((j, j)) or 0.0) >= FIT,
                     fit_own=own, fit_other=other, fit_of_other=fits.get((j, j)))
+    # a copied section (one table, the valve train) in an otherwise own file: the same
+    # test on each answer sheet's cells alone
+    for section in assignment.sheets:
+        only = set(section.items)
+        share = {}
+        for i in ids:
+            for j in ids:
+                right, answered = fit(answers[i], keys[j], assignment, only)
+                share[i, j] = right / answered if answered >= SECTION_ANSWERED else None
+        for i in ids:
+            own = share.get((i, i))
+            for j in ids:
+                other = share.get((i, j))
+                if j == i or other is None or (i, j) in by_pair:
+                    continue
+                if other >= FIT and other >= (own or 0.0) + MARGIN:
+                    add(i, j, "fits_other_section", (share.get((j, j)) or 0.0) >= FIT,
+                        section=section.key, fit_own=own, fit_other=other,
+                        fit_of_other=share.get((j, j)))
     for what, mark in (("same_file", lambda s: s.digest),
                        ("same_answers", lambda s: json.dumps(
                            [v for k in sorted(s.answers) for v in s.answers[k]], default=str))):

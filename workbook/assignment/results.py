@@ -91,6 +91,11 @@ def _points(x):
     return f"{x:.2f}".rstrip("0").rstrip(".")
 
 
+# flags whose notes name or hint at another student: the teacher's files only
+TEACHER_ONLY_FLAGS = ("copy-suspect", "wrong-student", "path-names-other",
+                      "multiple-submissions")
+
+
 def student_notes(g):
     return [(word, fields) for word, fields, private in g.notes if not private]
 
@@ -114,7 +119,9 @@ def write_results(output, assignment, spec, lang, grades, unmatched, feedback="f
     for g in grades:
         (output / "feedback" / f"{g.student_id}.md").write_text(
             feedback_text(g, assignment, lang, feedback), encoding="utf-8")
-    write_integrity_report(output / "integrity.xlsx", lang, grades, suspicions)
+    write_integrity_report(output / "integrity.xlsx", lang, grades, suspicions,
+                           {sheet.key: (sheet.zh if lang == "zh" else sheet.en)
+                            for sheet in assignment.sheets})
     rounds.save(output / rounds.FILE, grades, assignment, suspicions)
     write_class_report(output / "class-report.xlsx", assignment, lang, grades)
 
@@ -321,7 +328,7 @@ def _width(texts, least=10, most=60):
     return max(least, min(most, max((display_width(str(t)) for t in texts), default=0) + 2))
 
 
-def write_integrity_report(path, lang, grades, suspicions):
+def write_integrity_report(path, lang, grades, suspicions, sections=None):
     """The teacher's integrity report: one row per suspected pair, then the flags that
     concern one student only."""
     w = words(lang)
@@ -342,7 +349,7 @@ def write_integrity_report(path, lang, grades, suspicions):
         rows.append([f"{s.who} {names.get(s.who, '')}".strip(),
                      f"{s.whom} {names.get(s.whom, '')}".strip() if s.whom else "",
                      w["separator"].join(w.get(f"suspect_kind_{k}", k) for k in s.kinds),
-                     _evidence(w, s),
+                     _evidence(w, s, sections),
                      w["action_copier"] if s.source_known else w["action_unclear"]])
     for g in grades:
         for flag in g.flags:
@@ -368,9 +375,12 @@ def write_integrity_report(path, lang, grades, suspicions):
     book.close()
 
 
-def _evidence(w, s):
+def _evidence(w, s, sections=None):
     parts = []
     e = s.evidence
+    if e.get("section"):
+        parts.append(say(w, "evidence_section", section=(sections or {}).get(e["section"],
+                                                                            e["section"])))
     if e.get("fit_other") is not None:
         parts.append(say(w, "evidence_fit_other", share=f"{e['fit_other']:.0%}", whom=s.whom))
     if e.get("fit_own") is not None:
@@ -381,7 +391,8 @@ def _evidence(w, s):
     if e.get("earlier"):
         parts.append(say(w, "evidence_earlier", who=e["earlier"]))
     for sid, facts in e.get("files", {}).items():
-        parts.append(f"{sid}: " + ", ".join(f"{k} {v}" for k, v in facts.items()))
+        parts.append(f"{sid}: " + ", ".join(f"{w.get('fact_' + k, k)} {v}"
+                                            for k, v in facts.items()))
     return w["separator"].join(parts)
 
 
@@ -460,9 +471,11 @@ def write_class_report(path, assignment, lang, grades):
     _item_analysis(book, w, assignment, lang, graded, styles)
 
     students = book.add_worksheet(w["report_students"])
+    # the sheet a teacher shows the class: what each student is told, never a
+    # suspicion (those stay in integrity.xlsx and the gradebook)
     notes = {g.student_id: w["separator"].join(say(w, word, **fields)
-                                               for word, fields, _ in g.notes)
-             + ((w["separator"] if g.notes else "") + reason_text(g.problem, lang)
+                                               for word, fields in student_notes(g))
+             + ((w["separator"] if student_notes(g) else "") + reason_text(g.problem, lang)
                 if g.problem else "")
              + "".join(w["separator"] + w["override_note"].format(what=o) for o in g.overrides)
              for g in grades}
@@ -480,7 +493,8 @@ def write_class_report(path, assignment, lang, grades):
         students.write_string(row, 2, w.get(f"state_{g.status}", g.status), styles.top)
         if g.status == "graded":
             students.write_number(row, 3, round(g.score, 2), styles.top)
-        flags = w["separator"].join(w.get(f"flag_{f}", f) for f in g.flags)
+        flags = w["separator"].join(w.get(f"flag_{f}", f) for f in g.flags
+                                    if f not in TEACHER_ONLY_FLAGS)
         students.write_string(row, 4, flags, styles.text)
         students.write_string(row, 5, notes[g.student_id], styles.text)
         students.set_row(row, row_points([(flags, 14), (notes[g.student_id], notes_width)]))

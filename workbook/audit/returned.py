@@ -5,6 +5,14 @@ The values are read as saved (Excel, LibreOffice, Gnumeric and WPS store them); 
 formula replaced by a constant, an error value (#REF!, #NAME?, …), a cell saved
 without a value, or a name whose range no longer has the template's shape is
 reported too.  Agreement is crankbook.reading.compare's one rule, as in verify.
+
+Two findings stand for many cells: a workbook whose inputs were changed without
+recalculating (manual calculation, a script that wrote a value) — its results all
+agree with the inputs it was built with (its preset's), so one finding names the
+changed inputs and counts the stale cells per name — and a workbook of this
+crankbook version from which an input name (``p_…``) was deleted (the file was
+altered: never "every q_ cell agrees").  Many cells of one name that differ for no
+reason found are one finding with their count and the first address.
 """
 import math
 from dataclasses import dataclass
@@ -20,6 +28,11 @@ from crankbook.reading.workbook_reader import (cells, expected_shape, formulas, 
 from crankbook.support.workspace import temporary_directory
 
 
+DIFFERS = "value differs from the recomputation"
+GROUPED = 4                        # differing cells of one name shown one by one, at most
+STORY = 0.9                        # share of them that must follow the built inputs
+
+
 @dataclass
 class CellFinding:
     address: str
@@ -27,6 +40,7 @@ class CellFinding:
     stored: object
     expected: float
     problem: str
+    index: int | None = None       # the cell's place in its name's range
 
 
 def _addresses(found):
@@ -105,9 +119,90 @@ def _audit(original, calculated, recalculated):
                 findings.append(CellFinding(address, name, stored, target,
                                             "a value where the inputs give none"))
             elif abs(stored - target) > allowed[i]:
-                findings.append(CellFinding(address, name, stored, target,
-                                            "value differs from the recomputation"))
-    return spec, findings, recalculated, rule_message
+                findings.append(CellFinding(address, name, stored, target, DIFFERS, i))
+    if rule_message is None and not recalculated:
+        findings = _stale(findings, spec, values, tables, grids, book)
+    return spec, _missing_inputs(spec, ranges, book) + _grouped(findings), recalculated, \
+        rule_message
+
+
+def _missing_inputs(spec, ranges, book):
+    """An input name deleted from a workbook this crankbook version wrote (an older
+    version's workbook may lack inputs added since: those take their defaults)."""
+    from crankbook import __version__
+    from crankbook.writer.build import PROPERTY_VERSION
+    if book.custom_properties.get(PROPERTY_VERSION) != __version__:
+        return []
+    return [CellFinding("—", f"p_{p.key}", None, math.nan,
+                        "the input name is missing: the file was altered (its results were "
+                        "recomputed with the input's default)")
+            for p in spec.parameters if f"p_{p.key}" not in ranges]
+
+
+def _stale(findings, spec, values, tables, grids, book):
+    """The differing cells as one finding when they all follow the inputs the workbook
+    was built with: its preset's values of the inputs that now differ."""
+    from crankbook.errors import CrankbookError
+    from crankbook.spec import params
+    from crankbook.writer.build import PROPERTY_PRESET
+    differing = [f for f in findings if f.problem == DIFFERS]
+    if len(differing) < GROUPED:
+        return findings
+    try:
+        _, base, _ = params.load_preset(book.custom_properties.get(PROPERTY_PRESET) or "")
+    except (CrankbookError, OSError, ValueError):
+        return findings
+    changed = [k for k in values if k in base and np.shape(values[k]) == np.shape(base[k])
+               and not np.allclose(np.asarray(values[k], float), np.asarray(base[k], float),
+                                   rtol=1e-12, atol=0.0)]
+    if not changed:
+        return findings
+    old = dict(values, **{k: base[k] for k in changed})
+    with np.errstate(all="ignore"):
+        before, floors = expected_values(spec, old, tables, grids)
+    if before is None:
+        return findings
+    following = []                     # the cells that hold the built inputs' results
+    for f in differing:
+        key = f.name[2:]
+        want = np.atleast_1d(np.asarray(before.get(key, math.nan), dtype=float)).ravel()
+        if f.index is not None and f.index < want.size and np.isfinite(want[f.index]) and \
+                abs(f.stored - want[f.index]) <= \
+                allowances(want, floors.get(key, 0.0))[f.index]:
+            following.append(f)
+    if len(following) < STORY * len(differing):
+        return findings                     # not the built inputs' values: no such story
+    others = [f for f in findings if not any(f is g for g in following)]
+    counts = {}
+    for f in following:
+        counts[f.name] = counts.get(f.name, 0) + 1
+    names = ", ".join(f"p_{k}" for k in changed)
+    shown = ", ".join(f"{name} {count:,}" for name, count in
+                      sorted(counts.items(), key=lambda item: -item[1])[:6])
+    more = f", … {len(counts) - 6} more names" if len(counts) > 6 else ""
+    summary = CellFinding("—", names, None, math.nan,
+                          f"not recalculated after {names} changed: {len(following):,} cells "
+                          f"still hold the results of the inputs it was built with ({shown}"
+                          f"{more})")
+    return [summary] + others
+
+
+def _grouped(findings):
+    """Many differing cells of one name: one finding with their count and the first."""
+    counts = {}
+    for f in findings:
+        if f.problem == DIFFERS:
+            counts[f.name] = counts.get(f.name, 0) + 1
+    out, done = [], set()
+    for f in findings:
+        if f.problem != DIFFERS or counts[f.name] <= GROUPED:
+            out.append(f)
+        elif f.name not in done:
+            done.add(f.name)
+            out.append(CellFinding(f.address, f.name, f.stored, f.expected,
+                                   f"{DIFFERS} in {counts[f.name]:,} cells (the first "
+                                   f"shown)", f.index))
+    return out
 
 
 def _broken_rule(spec, values, tables, grids):
