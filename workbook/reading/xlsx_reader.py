@@ -28,7 +28,9 @@ MAX_STRINGS = 1_000_000               # shared strings
 MAX_ELEMENTS = 20_000_000             # XML elements parsed from one file
 MAX_DEPTH = 64                        # XML element nesting
 MAX_FORMULA = 2000                    # characters of a formula kept (to look at, not run)
-TIME_LIMIT = 30.0                     # seconds to read one file, on every platform
+# CPU seconds to read one file: a hostile file's cost is its parsing, and a busy
+# machine (a class graded beside a build) must not refuse a legitimate file
+TIME_LIMIT = 30.0
 OLE_MAGIC = b"\xd0\xcf\x11\xe0"
 MAIN = "http://schemas.openxmlformats.org/spreadsheetml/2006/main"
 REL = "http://schemas.openxmlformats.org/officeDocument/2006/relationships"
@@ -99,7 +101,7 @@ class XlsxBook:
 
     def __init__(self, path, time_limit=TIME_LIMIT):
         self.path = Path(path)
-        self.deadline = time.monotonic() + time_limit
+        self.deadline = time.process_time() + time_limit
         self.time_limit = time_limit
         self._elements = 0
         self._cells = 0
@@ -169,8 +171,8 @@ class XlsxBook:
                     raise Unreadable(f"{member.filename} holds macro code: not opened")
 
     def _tick(self):
-        if time.monotonic() > self.deadline:
-            raise Unreadable(f"took longer than {self.time_limit:g} s to read")
+        if time.process_time() > self.deadline:
+            raise Unreadable(f"took longer than {self.time_limit:g} s of CPU time to read")
 
     def _part(self, name, required=True):
         self._tick()
