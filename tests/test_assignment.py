@@ -805,6 +805,30 @@ def test_every_drawn_variant_passes_every_check():
     assert all(t[-1] == 2 * t[0] for t in teeth)          # the cam turns at half speed
 
 
+def test_no_cam_row_pays_for_typing_zero():
+    """Issue 40.6: the cam was asked at 0, 30, …, 330° — two thirds of the rows in a
+    dwell, where 0 was the answer.  For 200 drawn students, a 0 typed in any cam row
+    scores nothing (graded by the grader's own score_cell against each key)."""
+    from crankbook.assignment.key import expected, key_results
+    from crankbook.assignment.variants import draw_class
+    from crankbook.spec import params
+    spec, base, meta = params.load_preset("course-design")
+    drawn = draw_class(ASSIGNMENT, spec, base, [f"z{i:03d}" for i in range(200)], 40)
+    angles = ASSIGNMENT.row_angles["cam_angle"]
+    rises = set()
+    for sid, values in list(drawn.items())[:200]:
+        values = params.validate(spec, dict(values))
+        rises.add((values["intake_rise_angle"], values["intake_far_dwell"],
+                   values["intake_return_angle"]))
+        want = expected(ASSIGNMENT, spec, key_results(ASSIGNMENT, spec, meta, values))
+        for key in CAM_ITEMS:
+            item = ASSIGNMENT.item[key]
+            for angle, value in zip(angles, want[key]["value"]):
+                result = score_cell("", 0.0, float(value), item, ASSIGNMENT.rubric)
+                assert result.fraction == 0.0, (sid, key, angle, float(value))
+    assert len(rises) > 10                      # across the drawn rises, dwells and returns
+
+
 def test_the_student_workbook_gives_the_gear_data(pack):
     book = openpyxl.load_workbook(pack / "students" / "s01.xlsx")
     assert {"p_gear_teeth", "p_gear_shift", "p_gear_module", "p_gear_pressure_angle"} <= \

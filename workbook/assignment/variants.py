@@ -101,6 +101,11 @@ def rejection(assignment, spec, values):
     if bound is not None and out.get("min_transmission_angle", 90.0) < bound:
         return (f"the smallest transmission angle {float(out['min_transmission_angle']):.1f}° "
                 f"is below {bound:g}°")
+    share = assignment.constraints.get("rows_in_motion")
+    if share is not None:
+        still = _rows_at_rest(assignment, spec, values, share)
+        if still:
+            return still
     separation = assignment.constraints.get("min_position_separation")
     if separation is not None and "raw_crank_angle" in out:
         angles = np.sort(np.asarray(out["raw_crank_angle"]) % 360)
@@ -110,6 +115,34 @@ def rejection(assignment, spec, values):
             # be taken for each other
             return (f"two of the 15 positions lie {gaps.min():.2f}° apart (at least "
                     f"{separation:g}°, min_position_separation)")
+    return None
+
+
+def _rows_at_rest(assignment, spec, values, share):
+    """Why a row asked at a listed angle (a cam angle) would pay for typing zero — a
+    value below ``share`` of its largest over the cycle: a dwell, the middle of a rise
+    where a cosine or cycloidal law's acceleration vanishes — or None."""
+    for grid, angles in assignment.row_angles.items():
+        items = [k for sheet in assignment.sheets if sheet.rows == grid for k in sheet.items
+                 if k in spec.quantity]
+        if not items:
+            continue
+        fine = np.union1d(np.arange(0.0, 360.0, 1.0), np.asarray(angles, float))
+        rows = np.searchsorted(fine, np.asarray(angles, float))
+        try:
+            with np.errstate(all="ignore"):
+                out = evaluate.evaluate(spec, values, {}, {**evaluate.build_grids(spec),
+                                                           grid: fine}, keys=items)
+        except CrankbookError as error:
+            return str(error)
+        for key in items:
+            series = np.abs(np.asarray(out[key], dtype=float))
+            if series.shape != fine.shape:
+                continue
+            low = series[rows] < share * np.nanmax(series)
+            if np.any(low):
+                return (f"{key} is (nearly) zero at the asked {grid.replace('_', ' ')} "
+                        f"{angles[int(np.argmax(low))]:g}° (rows_in_motion)")
     return None
 
 
