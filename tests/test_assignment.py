@@ -211,8 +211,8 @@ def test_sign_slip_earns_half_of_the_item(graded):
     for v in graded["perfect"]["s05"][key]:
         if abs(2 * v) <= max(item.tolerance * abs(v), item.abs_floor):
             credit.append(1.0)                    # −v is v within the tolerance
-        elif abs(v) > 3 * item.abs_floor:
-            credit.append(0.5)                    # clearly non-zero: a sign slip
+        elif abs(v) > item.abs_floor:
+            credit.append(0.5)                    # the floor tells it from 0: a sign slip
         else:
             credit.append(0.0)
     expected = item.points * sum(credit) / 30

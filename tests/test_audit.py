@@ -173,6 +173,8 @@ def test_audit_workbook_formulas_agree_with_python(soffice, tmp_path):
             margin = claim.margin_percent(recomputed)
             if margin is not None:
                 assert row["margin %"] == pytest.approx(margin, rel=1e-9)
+            finding = next(f for f in claims.load(name).findings() if f["key"] == claim.key)
+            assert (row["materiality"] or "") == finding["materiality"], (name, claim.key)
     counts = {r[0]: r[1:1 + len(STATUSES)]
               for r in book["Summary"].iter_rows(min_row=HEADER_ROW + 2,
                                                  max_row=HEADER_ROW + 1 + len(DOCUMENTS),
@@ -587,3 +589,51 @@ def test_a_deleted_input_name_is_a_finding(built, tmp_path):
     assert done.returncode == 1, done.stdout + done.stderr
     assert "p_bore" in done.stdout and "input name is missing" in done.stdout
     assert "every q_ cell agrees" not in done.stdout
+
+
+def _last_digit(text):
+    """One unit of the last digit of a printed number, read from its text."""
+    digits = re.sub(r"[^0-9.]", "", text.split("e")[0].split("E")[0])
+    return 10.0 ** -len(digits.partition(".")[2]) if "." in digits else 1.0
+
+
+def test_every_finding_that_is_not_ok_has_its_materiality():
+    """Issue 40.13: each non-ok finding's class, recomputed here from its own printed
+    text, deviation and tolerance: rounding-level (within one unit of the last printed
+    digit beyond the tolerance), minor (< 1 %), material."""
+    seen = set()
+    for name in DOCUMENTS:
+        for f in claims.load(name).findings():
+            if f["status"] in ("ok", "unverifiable") or f["deviation"] is None:
+                assert f["materiality"] == "", (name, f["key"])
+                continue
+            printed = f["printed"] or (f["quote"] if f["reported"] is not None else "")
+            unit = _last_digit(printed) if printed and f["reported"] is not None else None
+            if unit is not None and abs(f["deviation"]) <= f["tolerance"] + unit:
+                want = "rounding"
+            elif f["deviation_percent"] is not None and abs(f["deviation_percent"]) < 1:
+                want = "minor"
+            else:
+                want = "material"
+            if unit is None and want == "rounding":
+                continue                             # a formula claim: no printed digit
+            assert f["materiality"] == want, (name, f["key"], f["materiality"], want)
+            seen.add(want)
+    assert seen == {"rounding", "minor", "material"}
+
+
+def test_a_table_of_one_root_cause_is_one_finding(tmp_path):
+    """Issue 40.13: the course report's slider table — 182 entries of one wrong
+    convention — counted as 182 findings; it is one, with its count."""
+    report = claims.load("course-report")
+    causes = claims.root_causes(report.findings())
+    table = [(f, n) for f, n in causes if f["group"] == "motion"]
+    assert len(table) == 1 and table[0][1] == 182 and table[0][0]["status"] == "mismatch"
+    assert len(causes) < 20
+    out = tmp_path / "audit.xlsx"
+    done = run_cli("audit", "course-report", "-o", out)
+    assert done.returncode == 0, done.stderr
+    text = out.with_suffix(".md").read_text(encoding="utf-8")
+    assert "motion: **mismatch** in 182 entries" in text
+    row = next(l for l in text.splitlines() if l.startswith("| course-report |"))
+    assert f"| {len(causes)} |" in row

@@ -14,8 +14,9 @@ import xlsxwriter
 from xlsxwriter.utility import xl_col_to_name
 
 from crankbook.support.atomic import atomic_path
-from crankbook.audit.claims import (FORMULA_AGREEMENT, INPUT, NOISE_FLOOR, STATUS_OF_KIND,
-                                    VERDICTS, coverage, shown)
+from crankbook.audit.claims import (FORMULA_AGREEMENT, INPUT, MATERIALITY, MINOR_PERCENT,
+                                    NOISE_FLOOR, STATUS_OF_KIND, VERDICTS, coverage,
+                                    root_causes, shown, unit_of_last_digit)
 from crankbook.writer.build import FIXED_TIME
 from crankbook.writer.print_setup import (A4, READABLE_SCALE, print_scale, row_height,
                                           row_points)
@@ -27,7 +28,8 @@ from crankbook.writer.styles import Styles
 SIGNED = [("key", 22, True), ("claim", 32, True),
           ("quote (line, offset)", 20, True), ("reported", 10, False), ("unit", 6, False),
           ("recomputed", 12, False), ("deviation", 11, False), ("deviation %", 9, False),
-          ("tolerance", 9, False), ("verdict", 12, True), ("note", 40, True)]
+          ("tolerance", 9, False), ("verdict", 12, True), ("materiality", 10, False),
+          ("note", 40, True)]
 # a page of their own after the signed columns, at their scale: wide enough that
 # their words do not make the rows taller than the signed columns need
 EXPLAINED = [("section", 9, True), ("line", 5, False), ("derived", 12, False),
@@ -42,8 +44,8 @@ COLOURS = {"ok": "#C6EFCE", "mismatch": "#FFC7CE", "inconsistent": "#FFEB9C",
 FINDING_FIELDS = ["document", "key", "section", "line", "offset", "quote", "claim", "reported",
                   "printed", "unit", "derived", "derived_what", "recomputed", "status", "kind",
                   "tolerance", "tolerance_reason", "reported_display", "recomputed_display",
-                  "deviation", "deviation_percent", "margin_percent", "other", "other_line",
-                  "model", "missing", "note"]
+                  "deviation", "deviation_percent", "margin_percent", "materiality", "group",
+                  "other", "other_line", "model", "missing", "note"]
 HEADER_ROW = 3
 NO_SOURCES = ("the seed texts were not given (--sources DIR or $CRANKBOOK_SEEDS): the "
               "numbers of the audited sections cannot be counted")
@@ -120,14 +122,26 @@ def write_markdown(documents, path, sources=None):
              "tolerance of the row (half a unit of the last printed digit unless the row "
              "says why wider). Verdicts — one meaning each:", ""]
     lines += [f"- **{status}**: {meaning}" for status, meaning in VERDICTS.items()]
-    lines += ["", "| document | claims | " + " | ".join(STATUSES) + " |",
-              "|---|---|" + "---|" * len(STATUSES)]
+    lines += ["", "Each finding that is not ok has a materiality — one meaning each:", ""]
+    lines += [f"- **{kind}**: {meaning}" for kind, meaning in MATERIALITY.items()]
+    lines += ["", "A table's entries with one root cause (one table, one verdict) are one "
+              "finding: *findings* counts root causes, the verdict columns count entries.",
+              "", "| document | claims | " + " | ".join(STATUSES) + " | findings | "
+              + " | ".join(MATERIALITY) + " |",
+              "|---|---|" + "---|" * (len(STATUSES) + 1 + len(MATERIALITY))]
     for d in documents:
         counts = Counter(f["status"] for f in d.findings())
+        material = Counter(f["materiality"] for f in d.findings())
         lines.append(f"| {d.key} | {len(d.claims)} | "
-                     + " | ".join(str(counts.get(s, 0)) for s in STATUSES) + " |")
+                     + " | ".join(str(counts.get(s, 0)) for s in STATUSES)
+                     + f" | {len(root_causes(d.findings()))} | "
+                     + " | ".join(str(material.get(m, 0)) for m in MATERIALITY) + " |")
     for d in documents:
-        lines += ["", f"## {d.key}: {d.title}", "", f"Source: `{d.file}`", "",
+        causes = [(f, n) for f, n in root_causes(d.findings()) if n > 1]
+        grouped = ["", "Root causes shared by several entries:", ""] + [
+            f"- {f['group']}: **{f['status']}** in {n} entries (the first: {f['key']}, "
+            f"{f['materiality']})" for f, n in causes] if causes else []
+        lines += ["", f"## {d.key}: {d.title}", "", f"Source: `{d.file}`"] + grouped + ["",
                   "| § | quote (line:offset) | claim | reported | recomputed | unit | deviation "
                   "| tolerance | verdict | basis | note |",
                   "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -135,6 +149,8 @@ def write_markdown(documents, path, sources=None):
             verdict = f["status"] if f["status"] == "ok" else f"**{f['status']}**"
             if f["margin_percent"] is not None:
                 verdict += f" ({f['margin_percent']:+.1f} %)"
+            if f["materiality"]:
+                verdict += f", {f['materiality']}"
             derived = "" if f["derived"] is None else \
                 f" — derived: {shown(f['derived'], '.6g')} ({f['derived_what']})"
             cells = [f["section"], _quote(f), f["claim"], f["reported_display"],
@@ -237,8 +253,11 @@ def _write_summary(book, ws, documents, names, formats, status_formats, sources)
         ws.write(HEADER_ROW, col, status, styles.header)
     total_col = len(STATUSES) + 1
     ws.write(HEADER_ROW, total_col, "total", styles.header)
+    extra = ["findings", *MATERIALITY]        # root causes, then materiality counts
+    for offset, label in enumerate(extra, start=1):
+        ws.write(HEADER_ROW, total_col + offset, label, styles.header)
     ws.set_column(0, 0, 18)
-    ws.set_column(1, total_col, 13)
+    ws.set_column(1, total_col + 4, 13)
     ws.set_row(HEADER_ROW, row_points([(status, 13) for status in STATUSES], bold=True))
     verdict_col = xl_col_to_name(COL["verdict"])
     for row, document in enumerate(documents, start=HEADER_ROW + 1):
@@ -251,6 +270,14 @@ def _write_summary(book, ws, documents, names, formats, status_formats, sources)
         ws.write_formula(row, total_col,
                          f"=SUM(B{row + 1}:{xl_col_to_name(len(STATUSES))}{row + 1})",
                          None, len(document.claims))
+        # root causes: a table column's entries with one verdict count once
+        ws.write_number(row, total_col + 1, len(root_causes(document.findings())))
+        material = Counter(f["materiality"] for f in document.findings())
+        column = xl_col_to_name(COL["materiality"])
+        for offset, kind in enumerate(MATERIALITY, start=2):
+            ws.write_formula(row, total_col + offset,
+                             f"=COUNTIF('{name}'!${column}:${column},\"{kind}\")", None,
+                             material.get(kind, 0))
     last = HEADER_ROW + len(documents)
     for col, status in enumerate(STATUSES, start=1):
         ws.conditional_format(HEADER_ROW, col, HEADER_ROW, col,
@@ -272,6 +299,17 @@ def _write_summary(book, ws, documents, names, formats, status_formats, sources)
         row += 1
         ws.write(row, 0, status, status_formats[status])
         ws.merge_range(row, 1, row, total_col + 3, meaning, formats.wrap)
+    row += 2
+    ws.write(row, 0, "Materiality (findings that are not ok)", styles.group)
+    for kind, meaning in MATERIALITY.items():
+        row += 1
+        ws.write(row, 0, kind, formats.plain)
+        ws.merge_range(row, 1, row, total_col + 3, meaning, formats.wrap)
+    row += 1
+    ws.merge_range(row, 0, row, total_col + 3,
+                   "findings: root causes — a table's entries with one cause (one table, "
+                   "one verdict) count once; the verdict columns count entries",
+                   formats.wrap)
     row += 2
     ws.set_h_pagebreaks([row])        # the table, chart and key on one page; coverage next
     ws.write(row, 0, "Coverage", styles.group)
@@ -416,6 +454,17 @@ def _write_claim_row(ws, row, claim, finding, formats):
     verdict = (f'=IF(OR({compared_cell}="",{rec}=""),"unverifiable",'
                f'IF(ABS({compared_cell}-{rec})<={tol}*(1+1E-12),"ok","{differs}"))')
     ws.write_formula(row, COL["verdict"], verdict, formats.verdict, finding["status"])
+    # the same classes as claims.materiality, live on the same cells
+    verdict_cell = f"{xl_col_to_name(COL['verdict'])}{excel_row}"
+    dev = f"{xl_col_to_name(COL['deviation'])}{excel_row}"
+    pct = f"{xl_col_to_name(COL['deviation %'])}{excel_row}"
+    if finding["deviation"] is not None:
+        ws.write_formula(
+            row, COL["materiality"],
+            f'=IF(OR({verdict_cell}="ok",{verdict_cell}="unverifiable"),"",'
+            f'IF(ABS({dev})<={tol}+{unit_of_last_digit(claim):G},"rounding",'
+            f'IF({pct}="","material",IF(ABS({pct})<{MINOR_PERCENT:G},"minor","material"))))',
+            formats.plain, finding["materiality"])
     if claim.kind == "rule":
         margin = (f'=IF({xl_col_to_name(COL["verdict"])}{excel_row}="outside-rule",'
                   f'({compared_cell}-{rec})/ABS({rec})*100,"")')

@@ -214,6 +214,7 @@ class Claim:
                                        # name -> half a unit of their last printed digit
     fits: list = field(default_factory=list)      # a table's fit row: [TableFit, ...]
     let: dict = field(default_factory=dict)        # a table's named expressions (Names)
+    group: str = ""                    # a printed table: its entries share a root cause
 
     def texts(self):
         """The claim's own words — note, model, missing, the derived value's meaning —
@@ -543,6 +544,9 @@ class Document:
             compared = claim.compared()
             reported_display, recomputed_display = displays(claim, compared, recomputed, status)
             deviation = None if compared is None or recomputed is None else compared - recomputed
+            deviation_pct = deviation_percent(claim.compared(), recomputed) \
+                if deviation is not None else None
+            tolerance = claim.tolerance_used(recomputed)[0]
             out.append({"document": self.key, "key": claim.key, "section": claim.section,
                         "line": claim.line, "claim": claim.claim,
                         "reported": claim.reported, "printed": claim.printed or "",
@@ -560,12 +564,56 @@ class Document:
                         "recomputed_display": recomputed_display,
                         "deviation": deviation,
                         # relative to the value: −1.8 % is 1.8 % smaller in magnitude
-                        "deviation_percent": deviation_percent(claim.compared(), recomputed)
-                        if deviation is not None else None})
+                        "deviation_percent": deviation_pct,
+                        "materiality": materiality(claim, status, deviation, deviation_pct,
+                                                   tolerance),
+                        "group": claim.group})
         return out
 
 
 EXTRA_DIGITS = 2          # an ok row shows its recomputation this much finer than printed
+MATERIALITY = {
+    "rounding": "within one unit of the last printed digit beyond the tolerance: a "
+                "rounding or transcription slip, nothing an engineer would act on",
+    "minor": "less than 1 % from the recomputation",
+    "material": "1 % or more from the recomputation",
+}
+MINOR_PERCENT = 1.0
+
+
+def materiality(claim, status, deviation, deviation_pct, tolerance):
+    """How much a finding that is not ok matters (MATERIALITY), or "" (ok, or nothing
+    to measure: unverifiable)."""
+    if status in ("ok", "unverifiable") or deviation is None:
+        return ""
+    decimals = claim.printed_decimals()
+    unit = 10.0 ** -decimals if decimals is not None else 0.0
+    if abs(deviation) <= tolerance + unit:
+        return "rounding"
+    if deviation_pct is not None and abs(deviation_pct) < MINOR_PERCENT:
+        return "minor"
+    return "material"
+
+
+def unit_of_last_digit(claim):
+    """One unit of the last digit the document prints (0 where it prints no number)."""
+    decimals = claim.printed_decimals()
+    return 10.0 ** -decimals if decimals is not None else 0.0
+
+
+def root_causes(findings):
+    """Findings that are not ok, one per root cause: a printed table's entries with one
+    verdict are one, with their count.  [(first finding, count)]."""
+    groups = {}
+    for f in findings:
+        if f["status"] == "ok":
+            continue
+        key = (f.get("group") or f["key"], f["status"])
+        if key in groups:
+            groups[key][1] += 1
+        else:
+            groups[key] = [f, 1]
+    return [tuple(v) for v in groups.values()]
 
 
 def displays(claim, compared, recomputed, status):
@@ -746,7 +794,8 @@ def _table_claims(name, table):
                 inputs={**table.get("inputs", {}), table["row"]: float(row)},
                 let=dict(table.get("let", {})),
                 python=column["python"], note=column.get("note", table.get("note", "")),
-                quote=printed or "", offset=offset, **extra))
+                quote=printed or "", offset=offset, group=table["key"],
+                **extra))
     return out
 
 
