@@ -767,11 +767,12 @@ def test_a_gradebook_as_teachers_open_it(tmp_path):
     ws = book.active
     header = [c.value for c in ws[1]]
     row = {h: c.value for h, c in zip(header, ws[2])}
-    assert row["student_id"] == "012301011012" and row["班级"] == "机械2班"
-    assert row["status"] == "graded" and row["status_text"] == "已评分"
-    assert row["score"] == 100
+    # the class's words over the columns (issue 40.11); the CSV keeps the fixed names
+    assert row["学号"] == "012301011012" and row["班级"] == "机械2班"
+    assert row["状态代码"] == "graded" and row["状态"] == "已评分"
+    assert row["得分"] == 100 and "student_id" not in header
     raw = (tmp_path / "res" / "gradebook.csv").read_bytes()
-    assert raw.startswith(b"\xef\xbb\xbf") and b'"012301011012"' in raw
+    assert raw.startswith(b"\xef\xbb\xbf") and b'\n="012301011012",' in raw
     assert (tmp_path / "res" / "lms-import.csv").read_bytes().startswith(b"\xef\xbb\xbf")
     feedback = (tmp_path / "res" / "feedback" / "012301011012.md").read_text(encoding="utf-8")
     assert "e-1" not in feedback and "| -0 |" not in feedback

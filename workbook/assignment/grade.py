@@ -166,12 +166,20 @@ def grade_submission(sub, manifest_row, assignment, spec, preset, lang, key=None
             else:
                 sub.placement[name] = list(range(len(answers)))
             items[name] = score_item(item, rubric, answers, want[name],
-                                     [str(x) for x in row_labels] if row_labels else None,
+                                     [_shown_label(x, sheet.rows in assignment.row_angles)
+                                      for x in row_labels] if row_labels else None,
                                      rows_of_sheet if sheet.rows == "positions" else None,
                                      consequential,
                                      pairing.angles if name == getattr(
                                          assignment.positions, "angle_item", None) else None)
     return items, problems
+
+
+def _shown_label(label, angle):
+    """A row's label as the feedback names it: an asked angle as "35°", not "35.0"."""
+    if angle and isinstance(label, (int, float)):
+        return f"{float(label):g}°"
+    return str(label)
 
 
 def _inverse(rows, count):

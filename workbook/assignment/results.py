@@ -162,6 +162,11 @@ def gradebook_rows(assignment, lang, grades, unmatched, missing_as_zero):
     return rows
 
 
+GRADEBOOK_HEADINGS = {"student_id": "col_student_id", "name": "col_name",
+                      "status": "col_status_code", "status_text": "col_status",
+                      "score": "col_score", "max_score": "col_points",
+                      "flags": "col_flags_code", "flags_text": "col_flags",
+                      "notes": "col_notes", "overrides": "col_overrides"}
 GRADEBOOK_NOTES_WIDTH = 60         # characters: the notes and overrides columns, wrapped
 
 
@@ -181,10 +186,12 @@ def write_gradebook_xlsx(path, table, w):
     widths = [_width((row[col] for row in table[1:] if col < len(row)), 8,
                      GRADEBOOK_NOTES_WIDTH if name in ("notes", "overrides") else 18)
               if col in text_columns else 9 for col, name in enumerate(header)]
-    for col, name in enumerate(header):
+    # the class's words over the columns (the CSV keeps the fixed names scripts read)
+    shown = [w.get(GRADEBOOK_HEADINGS.get(name, ""), name) for name in header]
+    for col, name in enumerate(shown):
         ws.write_string(0, col, name, styles.header)
         ws.set_column(col, col, widths[col], styles.top)
-    ws.set_row(0, row_points(zip(header, widths), bold=True))
+    ws.set_row(0, row_points(zip(shown, widths), bold=True))
     for r, row in enumerate(table[1:], start=1):
         for col, value in enumerate(row):
             if value == "" or value is None:
