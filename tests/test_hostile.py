@@ -912,3 +912,33 @@ def test_a_copied_section_is_flagged_for_the_teacher(pack, tmp_path, capsys):
     shown = " ".join(str(c.value) for ws in report.worksheets for row in ws.iter_rows()
                      for c in row if c.value)
     assert "抄" not in shown and "吻合" not in shown, shown          # no suspicion shown
+
+
+# ------------------------------------------------- all Chinese for a Chinese class
+def test_a_chinese_class_reads_chinese(pack, tmp_path, capsys):
+    """Issue 40.11: cam laws, changed parameters, check on a key and the kept round
+    were in English (or key names) in a zh class."""
+    book = openpyxl.load_workbook(pack / "students" / "s001.xlsx")
+    task = " ".join(str(c.value) for row in book.worksheets[0].iter_rows() for c in row
+                    if c.value is not None)
+    assert "运动规律：" in task and any(law in task for law in (
+        "等速运动规律", "等加速等减速运动规律", "余弦加速度（简谐）运动规律",
+        "正弦加速度（摆线）运动规律", "3-4-5 多项式运动规律"))
+    code, out, err = run(capsys, "check", pack / "keys" / "s001.xlsx")
+    assert code == 1 and "这是一份答案" in out, out + err
+    subs1, subs2 = tmp_path / "round1", tmp_path / "round2"
+    answers = key_answers(pack, "s001")
+    fill(pack / "students" / "s001.xlsx", subs1 / "s001.xlsx", answers)
+    worse = dict(answers, crank_radius=answers["crank_radius"] * 1.5)
+    sheet, ref = next(iter(book.defined_names["p_stroke"].destinations))
+    fill(pack / "students" / "s001.xlsx", subs2 / "s001.xlsx", worse,
+         edit_parameters={"stroke": book[sheet][ref.replace("$", "")].value * 1.1})
+    assert run(capsys, "grade", pack, subs1, "-o", tmp_path / "r1")[0] == 0
+    code, _, err = run(capsys, "grade", pack, subs2, "-o", tmp_path / "r2", "--previous",
+                       tmp_path / "r1", "--keep", "best")
+    assert code == 0, err
+    feedback = (tmp_path / "r2" / "feedback" / "s001.md").read_text(encoding="utf-8")
+    assert "沿用第 1 轮的成绩 100 分" in feedback and "本轮得" in feedback, feedback[:600]
+    code, _, err = run(capsys, "grade", pack, subs2, "-o", tmp_path / "r3")
+    notes = gradebook(tmp_path / "r3")["s001"]["notes"]
+    assert "参数被修改：" in notes and "（p_stroke）" in notes, notes

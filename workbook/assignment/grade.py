@@ -341,7 +341,7 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
                                                  manifest_values(spec, by_id[sid])))
         if edited:
             g.note("rows-edited", "rows_edited", count=edited)
-        _flag(g, sub, by_id, spec)
+        _flag(g, sub, by_id, spec, lang)
     graded = {sid: sub for sid, sub in chosen.items() if grades[sid].status == "graded"}
     whole = options.whole          # copying is judged on the whole file
     suspicions = integrity.find(grades, graded, {sid: integrity.numeric_answers(sub, whole)
@@ -467,7 +467,7 @@ def _ids_in(text, patterns):
     return sorted({i for pattern, i in patterns if pattern.search(text)})
 
 
-def _flag(g, sub, by_id, spec):
+def _flag(g, sub, by_id, spec, lang="en"):
     assigned = by_id[g.student_id]
     changed = []
     for parameter in spec.scalar_parameters():
@@ -479,9 +479,12 @@ def _flag(g, sub, by_id, spec):
             have = answer_number(sub.parameters[parameter.key])
         want = float(assigned[f"p_{parameter.key}"])
         if have is None or abs(have - want) > 1e-9 * max(1.0, abs(want)):
-            changed.append(parameter.key)
+            changed.append(parameter)
     if changed:
-        g.note("parameters-changed", "parameters_changed", keys=", ".join(changed))
+        # named as the Task sheet describes them, with the key the cell is named by
+        g.note("parameters-changed", "parameters_changed", keys=("、" if lang == "zh" else ", ")
+               .join(f"{p.zh if lang == 'zh' else p.en}（p_{p.key}）" if lang == "zh" else
+                     f"{p.en} (p_{p.key})" for p in changed))
         for sid, row in by_id.items():
             if sid != g.student_id and all(
                     answer_number(sub.parameters.get(p.key)) is not None and

@@ -168,9 +168,11 @@ def keep(new, old, rule):
     new.round = old.round + 1
     if new.status != "graded":
         kept = old
-        kept.note(None, "kept_previous", score=f"{old.score:g}", rule="kept_no_new")
+        kept.note(None, "kept_round_no_new", round=old.round, score=f"{old.score:g}")
         return kept
     if rule == "best" and old.score > new.score:
-        old.note(None, "kept_previous", score=f"{old.score:g}", rule="kept_best")
+        # which round's work stands, and why: this round's own score beside it
+        old.note(None, "kept_round_best", round=old.round, score=f"{old.score:g}",
+                 new=f"{new.score:g}")
         return old
     return new

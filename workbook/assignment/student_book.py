@@ -14,6 +14,16 @@ from crankbook.writer.print_setup import key_width, landscape_page, line_height,
 from crankbook.writer.styles import Styles
 
 TASK = {"zh": "任务", "en": "Task"}
+
+
+class _ChoiceWords(dict):
+    def __missing__(self, lang):
+        from crankbook.assignment.results import words
+        self[lang] = {k: v for k, v in words(lang).items() if k.startswith("choice_")}
+        return self[lang]
+
+
+CHOICE_WORDS = _ChoiceWords()
 GIVEN = {"zh": "已知数据", "en": "Given data"}
 TASK_WIDTHS = [30, 16, 9, 48, 48]
 GIVEN_WIDTH = 24
@@ -106,15 +116,19 @@ def _task_sheet(book, assignment, spec, student, values, lang, styles, define):
     for parameter in shown:
         row += 1
         task.write(row, 0, parameter.key, styles.key_top)
+        zh, en = parameter.zh, parameter.en
         if parameter.kind == "choice":            # the word, as the full workbook shows it
-            task.write_string(row, 1, parameter.choices[int(values[parameter.key]) - 1],
-                              styles.top)
+            choice = parameter.choices[int(values[parameter.key]) - 1]
+            task.write_string(row, 1, choice, styles.top)
+            # … and what it is, in both languages (a law's name, not its key)
+            zh += "：" + CHOICE_WORDS["zh"].get(f"choice_{choice}", choice)
+            en += ": " + CHOICE_WORDS["en"].get(f"choice_{choice}", choice)
         else:
             task.write_number(row, 1, float(values[parameter.key]), styles.top)
         task.write(row, 2, unit_text(parameter.unit), styles.top)
-        task.write(row, 3, parameter.zh, styles.text)
-        task.write(row, 4, parameter.en, styles.text)
-        task.set_row(row, row_points([(parameter.zh, widths[3]), (parameter.en, widths[4])]))
+        task.write(row, 3, zh, styles.text)
+        task.write(row, 4, en, styles.text)
+        task.set_row(row, row_points([(zh, widths[3]), (en, widths[4])]))
         define(f"p_{parameter.key}", name, row, 1)
     task.activate()
     return task, widths, row
