@@ -604,7 +604,7 @@ def test_every_finding_that_is_not_ok_has_its_materiality():
     seen = set()
     for name in DOCUMENTS:
         for f in claims.load(name).findings():
-            if f["status"] in ("ok", "unverifiable") or f["deviation"] is None:
+            if f["status"] in ("ok", "unverifiable", "comparison") or f["deviation"] is None:
                 assert f["materiality"] == "", (name, f["key"])
                 continue
             printed = f["printed"] or (f["quote"] if f["reported"] is not None else "")
@@ -637,3 +637,32 @@ def test_a_table_of_one_root_cause_is_one_finding(tmp_path):
     assert "motion: **mismatch** in 182 entries" in text
     row = next(l for l in text.splitlines() if l.startswith("| course-report |"))
     assert f"| {len(causes)} |" in row
+
+
+def test_one_verdict_per_kind_of_error_and_comparisons_apart():
+    """Issue 40.12 and 40.14: a document number put through a wrong formula is a
+    mismatch everywhere (the thesis's arm and the report's s_a2 alike, each with the
+    document's own arithmetic as its derived value); an ok whose note reported a
+    discrepancy (a′23, y23, Δy23) is the non-ok verdict; crankbook's workbook for
+    another crankshaft is a comparison, no finding; the balancing-ring rows say their
+    inputs are illustrative."""
+    found = {(name, f["key"]): f for name in DOCUMENTS for f in claims.load(name).findings()}
+    for key in (("thesis", "journal_to_pin"), ("course-report", "r07_tip_thickness2")):
+        assert found[key]["status"] == "mismatch", key
+    assert found[("course-report", "r07_tip_thickness2")]["derived"] == \
+        pytest.approx(2.02356, abs=5e-5)              # the report's own arithmetic
+    for key in ("r07_a_w23", "r07_y23", "r07_dy23"):
+        assert found[("course-report", key)]["status"] == "mismatch", key
+    comparison = found[("compressor", "safety_factor_from_the_workbook")]
+    assert comparison["status"] == "comparison" and comparison["materiality"] == ""
+    causes = claims.root_causes(claims.load("compressor").findings())
+    assert all(f["status"] != "comparison" for f, _ in causes)
+    ring = [f for (name, _), f in found.items() if name == "balancing-ring"]
+    assert ring and all("illustrative" in f["caveat"] for f in ring)
+    # a rule is ok when its value lies inside to rounding: on its bound, computed twice
+    on_bound = claims.Claim(key="x", section="s", line=1, claim="c", unit="deg", kind="rule",
+                            reported=40.0 - 1e-13)
+    assert on_bound.status(40.0) == "ok"                     # its clamp, to the last bit
+    below = claims.Claim(key="y", section="s", line=1, claim="c", unit="deg", kind="rule",
+                         reported=39.0)
+    assert below.status(40.0) == "outside-rule"

@@ -40,11 +40,13 @@ COL = {label: i for i, (label, _, _) in enumerate(COLUMNS)}
 INPUTS_AT = len(COLUMNS)            # input name/value pairs start in this column
 STATUSES = list(VERDICTS)
 COLOURS = {"ok": "#C6EFCE", "mismatch": "#FFC7CE", "inconsistent": "#FFEB9C",
-           "model-disagrees": "#F8CBAD", "outside-rule": "#DDEBF7", "unverifiable": "#D9D9D9"}
+           "model-disagrees": "#F8CBAD", "outside-rule": "#DDEBF7", "unverifiable": "#D9D9D9",
+           "comparison": "#EDE7F6"}
 FINDING_FIELDS = ["document", "key", "section", "line", "offset", "quote", "claim", "reported",
                   "printed", "unit", "derived", "derived_what", "recomputed", "status", "kind",
                   "tolerance", "tolerance_reason", "reported_display", "recomputed_display",
                   "deviation", "deviation_percent", "margin_percent", "materiality", "group",
+                  "caveat",
                   "other", "other_line", "model", "missing", "note"]
 HEADER_ROW = 3
 NO_SOURCES = ("the seed texts were not given (--sources DIR or $CRANKBOOK_SEEDS): the "
@@ -89,10 +91,16 @@ def coverage_of(document, sources=None):
 
 
 def _basis(finding):
-    """What a verdict rests on besides the recomputation, in words."""
+    """What a verdict rests on besides the recomputation, in words (and what the
+    document's inputs are, where they are illustrative)."""
+    basis = _basis_alone(finding)
+    return f"{basis}; inputs: {finding['caveat']}" if finding.get("caveat") else basis
+
+
+def _basis_alone(finding):
     if finding["kind"] == "consistency":
         return f"other statement (line {finding['other_line']}): {finding['other']}"
-    if finding["kind"] == "model":
+    if finding["kind"] in ("model", "comparison"):
         return f"model: {finding['model']}"
     if finding["kind"] == "unverifiable":
         return f"missing: {finding['missing']}"
@@ -141,7 +149,8 @@ def write_markdown(documents, path, sources=None):
         grouped = ["", "Root causes shared by several entries:", ""] + [
             f"- {f['group']}: **{f['status']}** in {n} entries (the first: {f['key']}, "
             f"{f['materiality']})" for f, n in causes] if causes else []
-        lines += ["", f"## {d.key}: {d.title}", "", f"Source: `{d.file}`"] + grouped + ["",
+        lines += ["", f"## {d.key}: {d.title}", "", f"Source: `{d.file}`"] + \
+            (["", f"Inputs: {d.caveat}"] if d.caveat else []) + grouped + ["",
                   "| § | quote (line:offset) | claim | reported | recomputed | unit | deviation "
                   "| tolerance | verdict | basis | note |",
                   "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -333,7 +342,9 @@ def _write_document_sheet(book, document, name, formats, status_formats):
     ws.write(0, 0, f"{document.key}: {document.title}", styles.title)
     ws.write(1, 0, f"Source: {document.file} (line = its line). Recomputations are live "
                    f"formulas on the yellow input cells to the right: change an input and "
-                   f"the verdict follows. Verdicts: see the Summary sheet.", styles.subtitle)
+                   f"the verdict follows. Verdicts: see the Summary sheet."
+                   + (f" Inputs: {document.caveat}." if document.caveat else ""),
+             styles.subtitle)
     for col, (label, width, _) in enumerate(COLUMNS):
         ws.write(HEADER_ROW, col, label, styles.header)
         ws.set_column(col, col, width)
@@ -461,7 +472,8 @@ def _write_claim_row(ws, row, claim, finding, formats):
     if finding["deviation"] is not None:
         ws.write_formula(
             row, COL["materiality"],
-            f'=IF(OR({verdict_cell}="ok",{verdict_cell}="unverifiable"),"",'
+            f'=IF(OR({verdict_cell}="ok",{verdict_cell}="unverifiable",'
+            f'{verdict_cell}="comparison"),"",'
             f'IF(ABS({dev})<={tol}+{unit_of_last_digit(claim):G},"rounding",'
             f'IF({pct}="","material",IF(ABS({pct})<{MINOR_PERCENT:G},"minor","material"))))',
             formats.plain, finding["materiality"])

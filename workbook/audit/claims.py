@@ -33,6 +33,17 @@ One verdict per outcome, the same for every claim (VERDICTS defines them):
                         document quotes; the recomputation is the nearest value
                         inside the rule and the margin is given in %
 * ``unverifiable``    — kind ``unverifiable``: ``missing`` says what is not stated
+* ``comparison``      — kind ``comparison``: crankbook's workbook computed for another
+                        design than the document's (``model`` says which); shown
+                        beside the audit, never counted as a finding
+
+A wrong formula is a ``mismatch`` like wrong arithmetic: the recomputation applies
+the right formula to the document's own inputs, and ``derived`` shows the
+document's own arithmetic (the thesis's journal-to-pin arm, the report's s_a2).
+A number the document derives from another printed number that its own inputs do
+not give is judged against the chain its inputs give — a discrepancy the note
+reports is the verdict, never a note under an ok (the report's a′23, y23, Δy23).
+A rule is ok when its value lies inside the rule to rounding.
 
 A ``[[table]]`` of a claims file is a printed table: one claim per entry, its rows
 setting one input (e.g. the crank angle), each ``[[table.column]]`` giving the
@@ -59,7 +70,8 @@ from crankbook.support.toml_files import names_in, read_named
 CLAIMS = "claims"
 INPUT = re.compile(r"\{([A-Za-z_][A-Za-z_0-9]*)\}")      # {name} of a claim's input
 STATUS_OF_KIND = {"value": "mismatch", "consistency": "inconsistent",
-                  "model": "model-disagrees", "rule": "outside-rule"}
+                  "model": "model-disagrees", "rule": "outside-rule",
+                  "comparison": "comparison"}
 VERDICTS = {
     "ok": "the recomputation agrees with the printed number within the tolerance",
     "mismatch": "the document's own inputs and formula give another number",
@@ -69,8 +81,12 @@ VERDICTS = {
     "outside-rule": "the printed value lies outside a design rule the document itself "
                     "quotes (margin in %)",
     "unverifiable": "the document does not state what a recomputation needs (said what)",
+    "comparison": "crankbook's own workbook, computed for another design than the "
+                  "document's, gives another number: a comparison beside the audit, not a "
+                  "finding against the document",
 }
 REQUIRED_BY_KIND = {"consistency": ("other", "other_line"), "model": ("model",),
+                    "comparison": ("model",),
                     "unverifiable": ("missing",)}
 FORMULA_AGREEMENT = 1e-9           # relative: a formula evaluated twice agrees to rounding
 NOISE_FLOOR = 1e-12                # absolute, for values near 0 (floating-point noise)
@@ -323,7 +339,10 @@ class Claim:
                 f"the change of {fit.whats[0]} that moves the printed {fit.column} column by half a "
                 f"unit of its last digit (rms): a fit cannot tell values closer than that")
         if self.kind == "rule":
-            return 0.0, RULE
+            # inside the rule to rounding: a value on its bound computed twice (Python's
+            # derived value, Excel's live clamp) is inside, whatever the last bit
+            scale = abs(recomputed) if recomputed is not None else abs(self.compared() or 0.0)
+            return FORMULA_AGREEMENT * scale + NOISE_FLOOR, RULE
         decimals = self.printed_decimals()
         if decimals is not None and self.reported is not None:
             base, reason = 0.5 * 10.0 ** -decimals, HALF_UNIT
@@ -523,6 +542,7 @@ class Document:
     omitted: list = field(default_factory=list)    # [{section, what, why}]: coverage
     audited: list = field(default_factory=list)    # [[first, last], ...]: audited lines
     row_labels: list = field(default_factory=list)  # [(line, offset, text)] of tables' rows
+    caveat: str = ""               # what every row's inputs are (illustrative values)
 
     def findings(self):
         """One dict per claim (computed once: the workbook, the report and the JSON
@@ -567,6 +587,7 @@ class Document:
                         "deviation_percent": deviation_pct,
                         "materiality": materiality(claim, status, deviation, deviation_pct,
                                                    tolerance),
+                        "caveat": self.caveat,
                         "group": claim.group})
         return out
 
@@ -584,7 +605,7 @@ MINOR_PERCENT = 1.0
 def materiality(claim, status, deviation, deviation_pct, tolerance):
     """How much a finding that is not ok matters (MATERIALITY), or "" (ok, or nothing
     to measure: unverifiable)."""
-    if status in ("ok", "unverifiable") or deviation is None:
+    if status in ("ok", "unverifiable", "comparison") or deviation is None:
         return ""
     decimals = claim.printed_decimals()
     unit = 10.0 ** -decimals if decimals is not None else 0.0
@@ -606,7 +627,7 @@ def root_causes(findings):
     verdict are one, with their count.  [(first finding, count)]."""
     groups = {}
     for f in findings:
-        if f["status"] == "ok":
+        if f["status"] in ("ok", "comparison"):
             continue
         key = (f.get("group") or f["key"], f["status"])
         if key in groups:
@@ -871,6 +892,7 @@ def load(name):
     row_labels = [(table["line"], offset, f"{row:g}") for table in data.get("table", [])
                   for row, offset in zip(table["rows"], table.get("row_offsets", []))]
     return Document(key=head["key"], file=head["file"], title=head["title"], claims=claims,
+                    caveat=head.get("caveat", ""),
                     omitted=data.get("omitted", []), audited=head.get("audited", []),
                     row_labels=row_labels)
 
