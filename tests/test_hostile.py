@@ -942,3 +942,29 @@ def test_a_chinese_class_reads_chinese(pack, tmp_path, capsys):
     code, _, err = run(capsys, "grade", pack, subs2, "-o", tmp_path / "r3")
     notes = gradebook(tmp_path / "r3")["s001"]["notes"]
     assert "参数被修改：" in notes and "（p_stroke）" in notes, notes
+
+
+def test_the_exhaust_mounting_angle_earns_consequential_credit(pack, tmp_path, capsys):
+    """Issue 40.8: the valve events are crank angles from TDC, which a student's own
+    wrong r moves; a mounting angle right for the student's own mechanism earned 0."""
+    from crankbook.assignment.grade import load_directory, manifest_values
+    from crankbook.assignment.key import expected, key_results
+    from crankbook.spec import params
+    settings, assignment, roster = load_directory(pack)
+    spec, _, meta = params.load_preset(settings["preset"])
+    row = next(r for r in roster if r["student_id"] == "s001")
+    key = key_results(assignment, spec, meta, params.validate(spec, manifest_values(spec, row)))
+    answers = key_answers(pack, "s001")
+    wrong_r = answers["crank_radius"] * 1.6
+    own = expected(assignment, spec, key, overrides={"crank_radius": wrong_r,
+                                                    "rod_length": answers["rod_length"]})
+    mine = float(own["exhaust_cam_mounting_angle"]["value"][0])
+    assert abs(mine - answers["exhaust_cam_mounting_angle"]) > 1.0     # visibly different
+    fill(pack / "students" / "s001.xlsx", tmp_path / "subs" / "s001.xlsx",
+         dict(answers, crank_radius=wrong_r, exhaust_cam_mounting_angle=mine))
+    code, _, err = run(capsys, "grade", pack, tmp_path / "subs", "-o", tmp_path / "r")
+    assert code == 0, err
+    row = gradebook(tmp_path / "r")["s001"]
+    column = next(c for c in row if c.endswith("(a_exhaust_cam_mounting_angle)"))
+    points = assignment.item["exhaust_cam_mounting_angle"].points
+    assert float(row[column]) == pytest.approx(0.8 * points), row[column]
