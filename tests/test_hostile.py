@@ -968,3 +968,28 @@ def test_the_exhaust_mounting_angle_earns_consequential_credit(pack, tmp_path, c
     column = next(c for c in row if c.endswith("(a_exhaust_cam_mounting_angle)"))
     points = assignment.item["exhaust_cam_mounting_angle"].points
     assert float(row[column]) == pytest.approx(0.8 * points), row[column]
+
+
+@pytest.mark.parametrize("lang", ["zh", "en"])
+def test_a_handed_in_answer_key_is_reported_as_a_leaked_key(tmp_path, capsys, lang):
+    """Issue 40.9: a student who handed in an answer key was "unreadable" like any
+    damaged file; the teacher hears of a leaked key (whose), the student does not."""
+    roster = tmp_path / "roster.csv"
+    roster.write_text("学号,姓名\nk001,甲\nk002,乙\n", encoding="utf-8")
+    code, _, err = run(capsys, "assign", "--roster", roster, "--seed", "5", "--lang", lang,
+                       "-o", tmp_path / "class")
+    assert code == 0, err
+    (tmp_path / "subs").mkdir()
+    (tmp_path / "subs" / "k001.xlsx").write_bytes(
+        (tmp_path / "class" / "keys" / "k002.xlsx").read_bytes())
+    code, _, err = run(capsys, "grade", tmp_path / "class", tmp_path / "subs", "-o",
+                       tmp_path / "r")
+    assert code == 0, err
+    row = gradebook(tmp_path / "r")["k001"]
+    assert row["status"] == "unreadable" and "leaked-key" in row["flags"]
+    words = {"zh": "答案可能外泄", "en": "the keys may have leaked"}[lang]
+    assert words in row["notes"] and "k002" in row["notes"], row["notes"]
+    sheet = openpyxl.load_workbook(tmp_path / "r" / "integrity.xlsx").active
+    assert any(words in str(c.value) for r in sheet.iter_rows() for c in r)
+    feedback = (tmp_path / "r" / "feedback" / "k001.md").read_text(encoding="utf-8")
+    assert "k002" not in feedback and words not in feedback

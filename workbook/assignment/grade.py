@@ -326,6 +326,9 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
                    others=", ".join(named))
         if sub.problem:
             g.status, g.problem = "unreadable", sub.problem
+            if sub.is_key:
+                g.note("leaked-key", "leaked_key", private=True,
+                       whose=_whose_parameters(sub, by_id, spec) or "?")
             continue
         try:
             g.items, problems = grade_submission(sub, by_id[sid], options.whole, spec,
@@ -465,6 +468,28 @@ def _ids_in(text, patterns):
     """The roster ids ``text`` names, each standing alone (s1 is not named by s10);
     an id inside another named id (s1 in s1-2) counts too, so such a part names two."""
     return sorted({i for pattern, i in patterns if pattern.search(text)})
+
+
+def _whose_parameters(sub, by_id, spec):
+    """The roster student whose assigned parameters a file's p_ cells hold (nine in
+    ten of them at least, and no one else as many), or None."""
+    have = {}
+    for parameter in spec.scalar_parameters():
+        if parameter.key in sub.parameters:
+            try:                              # a choice's word, or a number
+                have[parameter.key] = params.coerce(parameter, sub.parameters[parameter.key])
+            except CrankbookError:
+                have[parameter.key] = answer_number(sub.parameters[parameter.key])
+    have = {k: v for k, v in have.items() if v is not None}
+    if not have:
+        return None
+    # a key sets an input or two of its own (the given pressure trace): the student
+    # whose parameters it holds is the one it matches best, nearly everywhere, alone
+    matches = {sid: sum(abs(v - float(row[f"p_{k}"])) <= 1e-9 * max(1.0, abs(float(
+        row[f"p_{k}"]))) for k, v in have.items()) for sid, row in by_id.items()}
+    best = max(matches.values(), default=0)
+    winners = [sid for sid, n in matches.items() if n == best]
+    return winners[0] if len(winners) == 1 and best >= 0.9 * len(have) else None
 
 
 def _flag(g, sub, by_id, spec, lang="en"):

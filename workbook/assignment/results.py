@@ -93,7 +93,7 @@ def _points(x):
 
 # flags whose notes name or hint at another student: the teacher's files only
 TEACHER_ONLY_FLAGS = ("copy-suspect", "wrong-student", "path-names-other",
-                      "multiple-submissions")
+                      "multiple-submissions", "leaked-key")
 
 
 def student_notes(g):

@@ -77,6 +77,7 @@ class Submission:
     metadata: dict = field(default_factory=dict)     # creator, last saved by, created, …
     placement: dict = field(default_factory=dict)    # answer key -> key row of each file row
     needs_conversion: bool = False # a .ods, .xls, .et, …: LibreOffice makes it an .xlsx
+    is_key: bool = False           # an answer key crankbook wrote: a leaked key?
 
 
 def shown_name(path, root):
@@ -322,6 +323,13 @@ def read(sub, shapes, path=None):
     try:
         book = XlsxBook(path or sub.path)
         try:
+            if book.custom_properties.get("crankbook_role") == "key":
+                # the teacher must hear of it (whose key, by its parameters)
+                sub.is_key = True
+                sub.parameters = {k: cells[0][0] for k, cells in
+                                  _named_cells(book, "p_").items() if len(cells) == 1}
+                sub.problem = "not a crankbook student workbook (an answer key)"
+                return
             labels = {}
             answers = _named_cells(book, "a_", shapes, labels)
             if not answers:
