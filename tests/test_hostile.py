@@ -993,3 +993,25 @@ def test_a_handed_in_answer_key_is_reported_as_a_leaked_key(tmp_path, capsys, la
     assert any(words in str(c.value) for r in sheet.iter_rows() for c in r)
     feedback = (tmp_path / "r" / "feedback" / "k001.md").read_text(encoding="utf-8")
     assert "k002" not in feedback and words not in feedback
+
+
+def test_a_round_one_copy_flag_stays_in_round_two(pack, tmp_path, capsys):
+    """Issue 40.9: a copier who resubmitted their own work in round 2 left no trace of
+    round 1's suspicion in round 2's integrity report."""
+    r1, r2 = tmp_path / "subs1", tmp_path / "subs2"
+    fill(pack / "students" / "s002.xlsx", r1 / "s002.xlsx", key_answers(pack, "s002"))
+    fill(pack / "students" / "s001.xlsx", r1 / "s001.xlsx", key_answers(pack, "s002"))
+    fill(pack / "students" / "s001.xlsx", r2 / "s001.xlsx", key_answers(pack, "s001"))
+    assert run(capsys, "grade", pack, r1, "-o", tmp_path / "g1")[0] == 0
+    assert "copy-suspect" in gradebook(tmp_path / "g1")["s001"]["flags"]
+    code, _, err = run(capsys, "grade", pack, r2, "-o", tmp_path / "g2", "--previous",
+                       tmp_path / "g1")
+    assert code == 0, err
+    row = gradebook(tmp_path / "g2")["s001"]
+    assert float(row["score"]) == 100 and "copy-suspect" in row["flags"]
+    assert "第 1 轮曾被怀疑抄袭" in row["notes"]
+    sheet = openpyxl.load_workbook(tmp_path / "g2" / "integrity.xlsx").active
+    text = " ".join(str(c.value) for r in sheet.iter_rows() for c in r if c.value)
+    assert "第 1 轮发现" in text and "s002" in text
+    feedback = (tmp_path / "g2" / "feedback" / "s001.md").read_text(encoding="utf-8")
+    assert "s002" not in feedback and "抄" not in feedback

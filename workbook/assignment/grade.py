@@ -361,6 +361,11 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
         grades[sid] = rounds.keep(grades[sid], earlier.get(sid), keep)
     suspicions = rounds.kept_suspicions(grades, this_round, earlier, suspicions,
                                         earlier_suspicions)
+    for suspicion in suspicions:          # an earlier round's, for a resubmitted grade
+        if suspicion.evidence.get("from_round"):
+            grades[suspicion.who].note("copy-suspect", "suspect_from_round", private=True,
+                                       round=suspicion.evidence["from_round"],
+                                       other=suspicion.whom or "")
     apply_overrides(grades, options.decisions, assignment)
     unmatched = [s for s in subs if s.student_id not in grades]
     # the returns first: a student whose workbook cannot go back is told why in the

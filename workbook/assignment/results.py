@@ -385,6 +385,8 @@ def write_integrity_report(path, lang, grades, suspicions, sections=None):
 def _evidence(w, s, sections=None):
     parts = []
     e = s.evidence
+    if e.get("from_round"):
+        parts.append(say(w, "evidence_from_round", round=e["from_round"]))
     if e.get("section"):
         parts.append(say(w, "evidence_section", section=(sections or {}).get(e["section"],
                                                                             e["section"])))

@@ -124,12 +124,19 @@ def _suspicion(entry):
 
 
 def kept_suspicions(grades, now, earlier, suspicions, earlier_suspicions):
-    """The suspicions behind the grades kept: this round's for a student graded on this
-    round's file, the earlier round's for one whose earlier grade was kept."""
+    """The suspicions behind the grades kept — this round's for a student graded on
+    this round's file, the earlier round's for one whose earlier grade was kept — and
+    every earlier round's suspicion besides, marked with its round: a copy flagged in
+    round 1 stays in the teacher's record when the student resubmits."""
     kept = []
     for found, round_grades in ((suspicions, now), (earlier_suspicions, earlier)):
         kept += [s for s in found if s.who in grades and
                  grades[s.who] is round_grades.get(s.who)]
+    for s in earlier_suspicions:
+        if s.who in grades and not any(s is k for k in kept):
+            s.evidence.setdefault("from_round", earlier[s.who].round
+                                  if s.who in earlier else 1)
+            kept.append(s)
     return kept
 
 
