@@ -66,3 +66,13 @@ def test_a_sign_slip_earns_the_sign_credit_at_any_magnitude():
     assert scored("pos_balancing_torque", -120.3, 120.0) == ("sign_slip", 0.5)
     assert scored("pos_balancing_torque", 0.0, 12.3)[1] == 0.0      # zero is no slip
     assert scored("pos_balancing_torque", -4.0, 3.0)[0] == "wrong"   # the floor can't tell
+
+
+@pytest.mark.parametrize("value, text", [
+    (-2e-7, "−2 × 10⁻⁷"), (3.25e-5, "3.25 × 10⁻⁵"), (1.23456e-9, "1.235 × 10⁻⁹"),
+    (0.000123456, "0.0001235"), (0.0362, "0.0362"),
+])
+def test_tiny_typed_numbers_are_shown_readably(value, text):
+    """Issue 40.11: a student's 2e-07 came back as "-0.0000002"."""
+    from crankbook.assignment.results import shown
+    assert shown(value, typed=True) == text

@@ -79,12 +79,26 @@ def shown(value, item=None, typed=False):
         return "—"
     floor = getattr(item, "abs_floor", 0.0) or 0.0
     decimals = max(0, math.ceil(-math.log10(floor)) + 1) if floor > 0 else 6
+    if typed and value and abs(value) < TINY:
+        return _powers_of_ten(value)
     if typed and value:
         decimals = min(12, max(decimals, 3 - math.floor(math.log10(abs(value)))))
     text = f"{value:.{decimals}f}"
     if "." in text:
         text = text.rstrip("0").rstrip(".")
     return "0" if text in ("-0", "") else text
+
+
+TINY = 1e-4                       # a typed number below this is shown as a × 10⁻ⁿ
+SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def _powers_of_ten(value):
+    """A tiny typed number as a person reads it: "−2 × 10⁻⁷", not "-0.0000002"
+    (nor "2e-07"), four significant digits at most."""
+    mantissa, exponent = f"{value:.3e}".split("e")
+    mantissa = mantissa.rstrip("0").rstrip(".").replace("-", "−")
+    return f"{mantissa} × 10{str(int(exponent)).translate(SUPERSCRIPT)}"
 
 
 def _points(x):
