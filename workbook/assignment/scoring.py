@@ -155,7 +155,7 @@ def score_cell(label, value, expected, item, rubric, alternatives=(), consequent
         return CellResult(label, value, expected, 0.0, reason, {})
     if not np.isfinite(expected):
         return CellResult(label, value, expected, 0.0, "no_expected", {})
-    tol, floor = item.tolerance, item.abs_floor
+    floor = item.abs_floor
     fraction = rubric["unit_slip"]["fraction"]
     if typed is not None and units.same_unit(typed, item.unit):
         typed = None                       # N·m for a J item: the asked unit

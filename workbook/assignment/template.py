@@ -180,9 +180,9 @@ def load(name, path=None):
         if not units.known(entry["unit"]):
             raise SpecError(file, entry["key"], f"unit {entry['unit']!r} is not in units.toml")
         angle = units.dimension(entry["unit"]) == "angle"
-        for field in ("angle_tolerance", "modulo"):
-            if field in entry and not angle:
-                raise SpecError(file, entry["key"], f"{field} is for angle items only")
+        for name in ("angle_tolerance", "modulo"):
+            if name in entry and not angle:
+                raise SpecError(file, entry["key"], f"{name} is for angle items only")
         items.append(Item(key=entry["key"], points=float(entry["points"]),
                           tolerance=float(entry.get("tolerance", rubric["tolerance"])),
                           zh=entry["zh"], en=entry["en"], unit=entry["unit"],
