@@ -342,9 +342,10 @@ def _write_document_sheet(book, document, name, formats, status_formats):
     ws.write(0, 0, f"{document.key}: {document.title}", styles.title)
     ws.write(1, 0, f"Source: {document.file} (line = its line). Recomputations are live "
                    f"formulas on the yellow input cells to the right: change an input and "
-                   f"the verdict follows. Verdicts: see the Summary sheet."
-                   + (f" Inputs: {document.caveat}." if document.caveat else ""),
-             styles.subtitle)
+                   f"the verdict follows. Verdicts: see the Summary sheet.", styles.subtitle)
+    if document.caveat:               # a line of its own, wrapped across the signed columns
+        ws.merge_range(2, 0, 2, COL["note"], f"Inputs: {document.caveat}.", formats.wrap)
+        ws.set_row(2, row_points([(document.caveat, sum(w for _, w, _ in SIGNED))]))
     for col, (label, width, _) in enumerate(COLUMNS):
         ws.write(HEADER_ROW, col, label, styles.header)
         ws.set_column(col, col, width)

@@ -74,7 +74,8 @@ STATUS_OF_KIND = {"value": "mismatch", "consistency": "inconsistent",
                   "comparison": "comparison"}
 VERDICTS = {
     "ok": "the recomputation agrees with the printed number within the tolerance",
-    "mismatch": "the document's own inputs and formula give another number",
+    "mismatch": "the document's own inputs give another number, by its own formula or by "
+                "the right one where it used a wrong one (derived: its own arithmetic)",
     "inconsistent": "two statements of the document contradict each other (both quoted)",
     "model-disagrees": "an independent engineering model (named, with its assumptions) "
                        "disagrees with the printed number",
