@@ -1015,3 +1015,41 @@ def test_a_round_one_copy_flag_stays_in_round_two(pack, tmp_path, capsys):
     assert "第 1 轮发现" in text and "s002" in text
     feedback = (tmp_path / "g2" / "feedback" / "s001.md").read_text(encoding="utf-8")
     assert "s002" not in feedback and "抄" not in feedback
+
+
+def test_a_section_shared_by_several_classmates_is_one_suspicion():
+    """A gear train drawn from a few choices is the same for many: a student whose
+    meshes fit that shared train was flagged against every classmate who has it (88
+    pairs in a 30-student trial); it is one suspicion, against the best fit, saying
+    how many share the data."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from crankbook.assignment import integrity
+    from crankbook.assignment.grade import Grade
+    from crankbook.assignment.submissions import Submission
+    from crankbook.assignment.template import AnswerSheet, Item
+    items = [Item(key=k, points=1, tolerance=0.01, zh=k, en=k, unit="mm")
+             for k in ("a", "b", "c", "m1", "m2", "m3")]
+    assignment = SimpleNamespace(items=items, positions=None, sheets=[
+        AnswerSheet(key="mech", zh="机构", en="mech", rows="scalar", items=("a", "b", "c")),
+        AnswerSheet(key="mesh", zh="啮合", en="mesh", rows="scalar", items=("m1", "m2", "m3"))])
+    ids = ["x1", "x2", "x3", "x4", "x5"]
+    own = {sid: {"a": 10.0 + n, "b": 20.0 + n, "c": 30.0 + n} for n, sid in enumerate(ids)}
+    shared = {"m1": 1.0, "m2": 2.0, "m3": 3.0}          # x2…x5 share one gear train
+    keys = {sid: {k: {"value": np.array([v])} for k, v in
+                  {**own[sid], **(shared if sid != "x1" else
+                                  {"m1": 7.0, "m2": 8.0, "m3": 9.0})}.items()}
+            for sid in ids}
+    answers = {sid: {k: keys[sid][k]["value"].copy() for k in keys[sid]} for sid in ids}
+    answers["x1"].update({k: np.array([v]) for k, v in shared.items()})   # x1 copied them
+    grades = {sid: Grade(student_id=sid, name=sid, status="graded") for sid in ids}
+    chosen = {sid: Submission(path=Path(f"{sid}.xlsx"), relative=f"{sid}.xlsx",
+                              digest=sid, answers={k: [float(v[0])] for k, v in
+                                                   answers[sid].items()}) for sid in ids}
+    found = integrity.find(grades, chosen, answers, keys, assignment)
+    mine = [s for s in found if s.who == "x1"]
+    assert len(mine) == 1 and mine[0].kinds == ["fits_other_section"], found
+    assert mine[0].evidence["shared_by"] == 4 and mine[0].evidence["section"] == "mesh"
+    assert not [s for s in found if s.who != "x1"]

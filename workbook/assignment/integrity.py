@@ -119,14 +119,18 @@ def find(grades, chosen, answers, keys, assignment):
                 share[i, j] = right / answered if answered >= SECTION_ANSWERED else None
         for i in ids:
             own = share.get((i, i))
-            for j in ids:
-                other = share.get((i, j))
-                if j == i or other is None or (i, j) in by_pair:
-                    continue
-                if other >= FIT and other >= (own or 0.0) + MARGIN:
-                    add(i, j, "fits_other_section", (share.get((j, j)) or 0.0) >= FIT,
-                        section=section.key, fit_own=own, fit_other=other,
-                        fit_of_other=share.get((j, j)))
+            fitting = [j for j in ids if j != i and share.get((i, j)) is not None and
+                       (i, j) not in by_pair and share[i, j] >= FIT and
+                       share[i, j] >= (own or 0.0) + MARGIN]
+            if not fitting:
+                continue
+            # several classmates may share that section's data (a gear train drawn from
+            # a few): one suspicion, against the best fit, with how many share it
+            j = max(fitting, key=lambda k: (share[i, k], share.get((k, k)) or 0.0))
+            add(i, j, "fits_other_section", (share.get((j, j)) or 0.0) >= FIT,
+                section=section.key, fit_own=own, fit_other=share[i, j],
+                fit_of_other=share.get((j, j)),
+                shared_by=len(fitting) if len(fitting) > 1 else None)
     for what, mark in (("same_file", lambda s: s.digest),
                        ("same_answers", lambda s: json.dumps(
                            [v for k in sorted(s.answers) for v in s.answers[k]], default=str))):

@@ -401,6 +401,8 @@ def _evidence(w, s, sections=None):
     e = s.evidence
     if e.get("from_round"):
         parts.append(say(w, "evidence_from_round", round=e["from_round"]))
+    if e.get("shared_by"):
+        parts.append(say(w, "evidence_shared_by", count=e["shared_by"]))
     if e.get("section"):
         parts.append(say(w, "evidence_section", section=(sections or {}).get(e["section"],
                                                                             e["section"])))
