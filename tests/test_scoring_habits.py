@@ -76,3 +76,12 @@ def test_tiny_typed_numbers_are_shown_readably(value, text):
     """Issue 40.11: a student's 2e-07 came back as "-0.0000002"."""
     from crankbook.assignment.results import shown
     assert shown(value, typed=True) == text
+
+
+def test_a_comma_read_as_thousands_says_so_when_a_point_was_meant():
+    """A student who typed "104,135" for 104.135 mm is told the comma was read as
+    thousands — no credit (the rule is the class's), but no bare "wrong" either."""
+    result = score_cell("", "104,135", 104.135, ASSIGNMENT.item["crank_radius"], RUBRIC)
+    assert (result.reason, result.fraction) == ("thousands_read", 0.0)
+    assert result.detail == {"number": "104135", "decimal": "104.135"}
+    assert scored("crank_radius", "104,135", 99.0) == ("wrong", 0.0)

@@ -189,7 +189,21 @@ def score_cell(label, value, expected, item, rubric, alternatives=(), consequent
     if item.consequential and _right(number, consequential, item):
         return CellResult(label, value, expected, rubric["consequential"]["fraction"],
                           "consequential", {})
-    return CellResult(label, value, expected, 0.0, "wrong", {})
+    return CellResult(label, value, expected, 0.0, *_thousands_or_wrong(value, expected, item))
+
+
+def _thousands_or_wrong(value, expected, item):
+    """(reason, detail) of a wrong answer: "wrong", or — where a comma read as
+    thousands ("104,135" as 104135) would be right read as a decimal point — the word
+    that tells the student so (no credit: the rule is the class's, said in advance)."""
+    if isinstance(value, str):
+        text = unicodedata.normalize("NFKC", value).strip().split(" ")[0]
+        if text.count(",") == 1 and THOUSANDS.match(text):
+            decimal = float(text.replace(",", "."))
+            if _close(decimal, expected, item):
+                return "thousands_read", {"number": f"{float(text.replace(',', '')):g}",
+                                          "decimal": f"{decimal:g}"}
+    return "wrong", {}
 
 
 def answer_in(value, unit):
