@@ -25,8 +25,8 @@ from crankbook.assignment.key import answer_rows, expected, key_results
 from crankbook.assignment.results import FEEDBACK_MODES, words, write_results
 from crankbook.assignment.scoring import (answer_in, answer_number, pair_positions,
                                           place_rows, score_item)
-from crankbook.assignment.submissions import (convert_foreign, discover, prepare, read,
-                                               recalculate)
+from crankbook.assignment.submissions import (EngineBudget, convert_foreign, discover,
+                                               prepare, read, recalculate)
 from crankbook.errors import AssignmentDirError, CrankbookError
 from crankbook.support.progress import steps
 from crankbook.support.csv_safety import as_typed
@@ -293,11 +293,13 @@ def _grade(assignment, roster, lang, spec, preset, root, output, feedback, previ
     # zips unpacked and .ods/.xls/.et converted in a private scratch folder, gone after
     with temporary_directory("unpack") as scratch:
         subs = prepare(discover(root), root, scratch)
-        convert_foreign(subs, scratch, progress, w["progress_converting"])
+        # one LibreOffice budget for the whole run: converting and recalculating share it
+        budget = EngineBudget()
+        convert_foreign(subs, scratch, progress, w["progress_converting"], budget)
         for sub in steps(subs, w["progress_reading"], progress=progress):
             if not sub.problem and not sub.needs_conversion:
                 read(sub, shapes)
-        recalculate(subs, shapes, progress, w["progress_recalculating"])
+        recalculate(subs, shapes, progress, w["progress_recalculating"], budget)
 
     by_id = {row["student_id"]: row for row in roster}
     _match(subs, by_id)
@@ -512,9 +514,10 @@ def _flag(g, sub, by_id, spec, lang="en"):
             changed.append(parameter)
     if changed:
         # named as the Task sheet describes them, with the key the cell is named by
-        g.note("parameters-changed", "parameters_changed", keys=("、" if lang == "zh" else ", ")
-               .join(f"{p.zh if lang == 'zh' else p.en}（p_{p.key}）" if lang == "zh" else
-                     f"{p.en} (p_{p.key})" for p in changed))
+        named = [f"{p.zh}（p_{p.key}）" if lang == "zh" else f"{p.en} (p_{p.key})"
+                 for p in changed]
+        g.note("parameters-changed", "parameters_changed",
+               keys=("、" if lang == "zh" else ", ").join(named))
         for sid, row in by_id.items():
             if sid != g.student_id and all(
                     answer_number(sub.parameters.get(p.key)) is not None and

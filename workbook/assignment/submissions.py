@@ -205,10 +205,9 @@ def _unpack(sub, data, scratch):
                 body = archive.read(member)
                 inner.digest = hashlib.sha256(body).hexdigest()
                 _classify(inner, name, body)
-                if not inner.problem:
+                if not inner.problem:           # named by content: no student's name
                     scratch.mkdir(parents=True, exist_ok=True)
-                    inner.path = scratch / f"zip-{len(list(scratch.iterdir())):05d}" \
-                        f"{suffix_of(name)}"
+                    inner.path = scratch / f"zip-{inner.digest[:24]}{suffix_of(name)}"
                     inner.path.write_bytes(body)
             out.append(inner)
         if not any(not s.problem for s in out):
@@ -221,14 +220,27 @@ def _unpack(sub, data, scratch):
         return []
 
 
-def convert_foreign(subs, scratch, progress=None, what="grade: converting to .xlsx"):
+class EngineBudget:
+    """The LibreOffice seconds one grading run may spend, converting and recalculating
+    together (RECALC_BUDGET): hostile files cost the run at most this."""
+
+    def __init__(self, seconds=RECALC_BUDGET):
+        self.deadline = time.monotonic() + seconds
+
+    def left(self):
+        return self.deadline - time.monotonic()
+
+
+def convert_foreign(subs, scratch, progress=None, what="grade: converting to .xlsx",
+                    budget=None):
     """.ods, .xls, .xlsb, .et, … made .xlsx by LibreOffice (within the run's engine
-    budget); a file it cannot convert keeps the reason."""
+    ``budget``); a file it cannot convert keeps the reason."""
     pending = [s for s in subs if s.needs_conversion and not s.problem]
     if not pending:
         return
     with waiting(f"{what} ({len(pending)})", progress):
-        for sub, output in zip(pending, _through_engine(pending, Path(scratch) / "convert")):
+        for sub, output in zip(pending, _through_engine(pending, Path(scratch) / "convert",
+                                                        budget or EngineBudget())):
             suffix = suffix_of(sub.relative)
             if isinstance(output, Path):
                 sub.path, sub.needs_conversion = output, False
@@ -237,11 +249,10 @@ def convert_foreign(subs, scratch, progress=None, what="grade: converting to .xl
                               f"({output})"
 
 
-def _through_engine(subs, tmp):
+def _through_engine(subs, tmp, budget):
     """Each submission's file through LibreOffice, saved as .xlsx: the output path, or
     the reason in words.  All together first; where that fails or times out, one by
-    one with RECALC_LIMIT s each, within RECALC_BUDGET s for all (hostile files cost
-    the run at most the budget)."""
+    one with RECALC_LIMIT s each, within what is ``left`` of the run's budget."""
     tmp = Path(tmp)
     staged = []
     for number, sub in enumerate(subs):
@@ -249,10 +260,13 @@ def _through_engine(subs, tmp):
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(sub.path.read_bytes())
         staged.append(target)
-    deadline = time.monotonic() + RECALC_BUDGET
+    if budget.left() < 5:
+        return [f"the run's LibreOffice time ({RECALC_BUDGET} s) was spent on other files"] \
+            * len(staged)
     try:
         outputs = recalc.convert(staged, tmp / "batch",
-                                 timeout=min(RECALC_LIMIT + 5 * len(staged), RECALC_BUDGET))
+                                 timeout=int(min(RECALC_LIMIT + 5 * len(staged),
+                                                 budget.left())))
     except CrankbookError:
         outputs = [None] * len(staged)
     results = []
@@ -260,7 +274,7 @@ def _through_engine(subs, tmp):
         if output is not None and output.is_file():
             results.append(output)
             continue
-        left = deadline - time.monotonic()
+        left = budget.left()
         if left < 5:
             results.append(f"the run's LibreOffice time ({RECALC_BUDGET} s) was spent on "
                            f"other files")
@@ -362,14 +376,16 @@ def _safe_reason(error):
     return re.sub(r"(/[^\s:]+)+", "…", text)[:200]
 
 
-def recalculate(subs, shapes, progress=None, what="grade: recalculating in LibreOffice"):
+def recalculate(subs, shapes, progress=None, what="grade: recalculating in LibreOffice",
+                budget=None):
     """Recalculate the submissions saved without values, one bad file costing only
     itself."""
     pending = [s for s in subs if s.needs_recalc and not s.problem]
     if not pending:
         return
     with temporary_directory("grade") as tmp, waiting(f"{what} ({len(pending)})", progress):
-        for sub, output in zip(pending, _through_engine(pending, Path(tmp))):
+        for sub, output in zip(pending, _through_engine(pending, Path(tmp),
+                                                        budget or EngineBudget())):
             if not isinstance(output, Path):
                 sub.problem = f"saved without values, and LibreOffice could not " \
                               f"recalculate it ({output})"
