@@ -29,19 +29,42 @@ from crankbook.calc import crankshaft, multicylinder
 
 
 # ---------------------------------------------------------------- points and cases
-def case_count(operating_trace_count):
-    """Cylinder pressures of the operating points: one per measured trace, or one (the
+def case_count(operating_trace_count, pressure_source=0.0, heat_release_source=1.0,
+               combustion_timing=1.0, operating_speed=(0.0,)):
+    """Cylinder pressures of the operating points: one per measured trace; one per point
+    where the model's heat (the charge, ``heat_release_source`` 2) or its combustion
+    angles (the table, ``combustion_timing`` 2) follow the speed; else one (the
     workbook's cylinder pressure) for every speed."""
-    return max(1, int(round(float(operating_trace_count))))
+    traces = int(round(float(operating_trace_count)))
+    if traces > 0:
+        return traces
+    follows_speed = round(float(heat_release_source)) == 2 or round(float(combustion_timing)) == 2
+    if round(float(pressure_source)) == 0 and follows_speed:
+        return max(1, int(np.size(operating_speed)))
+    return 1
 
 
-def pressure_from(operating_trace_count, pressure_source, operating_speed):
+def pressure_from(operating_trace_count, pressure_source, operating_speed,
+                  heat_release_source=1.0, combustion_timing=1.0):
     """Where each point's cylinder pressure comes from: 0 the Pressure sheet's, the same
-    at every speed; 1 its own measured trace; 2 the model (traces given but
-    ``pressure_source`` 0) (P,)."""
-    same = int(round(float(operating_trace_count))) == 0
-    value = 0.0 if same else (1.0 if float(pressure_source) == 1 else 2.0)
+    at every speed; 1 its own measured trace; 2 the model at the point's own speed
+    (P,)."""
+    if float(pressure_source) == 1:
+        value = 0.0 if int(round(float(operating_trace_count))) == 0 else 1.0
+    else:
+        cases = case_count(operating_trace_count, pressure_source, heat_release_source,
+                           combustion_timing, operating_speed)
+        value = 2.0 if cases > 1 else 0.0
     return np.full(np.size(operating_speed), value)
+
+
+def cases_stale(pressure_source, heat_release_source, combustion_timing, operating_speed):
+    """1 when a workbook laid out with one pressure for every speed now asks for one per
+    point (its heat or combustion angles switched to follow the speed), else 0.  The
+    layout numpy evaluates always follows the inputs, so 0 here; the workbook's own
+    cell says 1 after such an edit."""
+    del pressure_source, heat_release_source, combustion_timing, operating_speed
+    return 0.0
 
 
 def inertia_scale(operating_speed, speed):
@@ -74,15 +97,20 @@ def _blocks_for_points(case_block, items, points):
 
 
 # ---------------------------------------------------------------- the pressure of each case
-def case_pressure(operating_trace_count, pressure_source, cylinder_pressure, model_pressure,
-                  operating_measured_pressure):
-    """The cylinder pressure of each case (N + 1, C) [Pa]: the workbook's cylinder
-    pressure at every speed when no per-speed traces are given, else each speed's
-    measured trace (or the model, where ``pressure_source`` is 0)."""
+def case_pressure(operating_trace_count, pressure_source, cylinder_pressure,
+                  operating_model_pressure, operating_measured_pressure):
+    """The cylinder pressure of each case (N + 1, C) [Pa]: a measured trace
+    (``pressure_source`` 1) — the Pressure sheet's at every speed, or each speed's own
+    — else each case's model pressure (the point's heat and combustion angles; the same
+    as the Pressure sheet's where they do not change with speed)."""
     measured = np.asarray(operating_measured_pressure, dtype=float)
+    model = np.asarray(operating_model_pressure, dtype=float)
+    if float(pressure_source) != 1:
+        return model
     if int(round(float(operating_trace_count))) == 0:
-        return np.broadcast_to(np.asarray(cylinder_pressure, dtype=float), measured.shape)
-    return np.where(np.asarray(pressure_source) == 1, measured, model_pressure)
+        return np.broadcast_to(np.asarray(cylinder_pressure, dtype=float).reshape(-1, 1),
+                               model.shape)
+    return measured
 
 
 # ---------------------------------------------------------------- gas and inertia parts
@@ -316,3 +344,18 @@ def point_trace_speed_mismatch(pressure_source, operating_trace_count, operating
                                speeds.shape)
     per_point = round(float(pressure_source)) == 1 and round(float(operating_trace_count)) > 0
     return float(per_point and np.any((recorded > 0) & (recorded != speeds)))
+
+
+# ---------------------------------------------------------------- the points' own cycle
+def point_imep(case_pressure, cylinder_volume, displaced_volume, operating_speed):
+    """IMEP = ∮p·dV/V_d of each point's cylinder pressure (trapezoidal over the closed
+    cycle) (P,) [Pa]."""
+    from crankbook.calc import cycle
+    columns = _for_points(case_pressure, np.size(operating_speed))
+    return np.array([cycle.indicated_work(columns[:, k], cylinder_volume)
+                     for k in range(columns.shape[1])]) / displaced_volume
+
+
+def point_maximum(case_values, operating_speed):
+    """The largest value of each point's case over the cycle (P,)."""
+    return _for_points(case_values, np.size(operating_speed)).max(axis=0)

@@ -14,7 +14,7 @@ import numpy as np
 
 from crankbook.errors import CrankbookError, CrankbookWarning, WorkbookReadError
 from crankbook.spec.evaluate import MAX_ROWS
-from crankbook.reading.xlsx_reader import Unreadable, XlsxBook
+from crankbook.reading.xlsx_reader import RECALCULATED_SCALE, Unreadable, XlsxBook
 from crankbook.spec.loader import load as load_spec, template_names
 from crankbook.support.paths import require_file
 from crankbook.writer.build import (PROPERTY_ASSIGNMENT, PROPERTY_PRESET, PROPERTY_ROLE,
@@ -126,12 +126,14 @@ def formulas(book, found):
     return _block(book.has_formulas, book, found)
 
 
-def open_book(path):
-    """A checked, bounded XlsxBook, or WorkbookReadError with the reason."""
+def open_book(path, recalculated=False):
+    """A checked, bounded XlsxBook, or WorkbookReadError with the reason; a spreadsheet
+    engine's ``recalculated`` copy of a checked file gets the larger limits of
+    RECALCULATED_SCALE (the engine writes each shared formula out in full)."""
     path = Path(path)
     require_file(path, WorkbookReadError)
     try:
-        return XlsxBook(path)
+        return XlsxBook(path, scale=RECALCULATED_SCALE if recalculated else 1)
     except Unreadable as reason:
         raise WorkbookReadError(f"{path}: {reason}") from None
 
@@ -278,11 +280,12 @@ def role_of(book, ranges):
     return role, _property(book, PROPERTY_ASSIGNMENT)
 
 
-def load_named(path):
-    """(book, spec, template, ranges, values, tables, grids, sizes, grid rows)."""
+def load_named(path, recalculated=False):
+    """(book, spec, template, ranges, values, tables, grids, sizes, grid rows); a
+    ``recalculated`` copy is read with open_book's larger limits."""
     from crankbook.spec.evaluate import axis_sizes
     from crankbook.spec.params import fit_derived_items
-    book = open_book(path)
+    book = open_book(path, recalculated)
     ranges = defined_ranges(book)
     role, assignment = role_of(book, ranges)
     if role == "student":

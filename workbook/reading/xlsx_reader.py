@@ -42,6 +42,10 @@ DECLARATION = re.compile(rb"<!\s*(DOCTYPE|ENTITY)", re.I)
 CELL = re.compile(r"([A-Z]{1,3})([0-9]{1,7})\Z")
 AREA = re.compile(r"\$?([A-Z]{1,3})\$?([0-9]{1,7}):\$?([A-Z]{1,3})\$?([0-9]{1,7})\Z")
 MAX_ARRAYS = 10_000                   # array formulas kept per sheet
+# LibreOffice writes every shared formula out in full: its recalculated copy of a
+# workbook that passed these limits may unpack, and take to read, this many times more
+# (the speed-range sheet of an inline-4 with a pressure per speed: 116 MB of XML)
+RECALCULATED_SCALE = 4
 # the document properties an integrity check reads (who made the file, and when)
 CORE_PROPERTIES = ("creator", "lastModifiedBy", "created", "modified")
 
@@ -99,10 +103,15 @@ def _value(cell, shared, tag_v, tag_is):
 class XlsxBook:
     """The parts of one .xlsx that crankbook reads; see the module docstring."""
 
-    def __init__(self, path, time_limit=TIME_LIMIT):
+    def __init__(self, path, time_limit=TIME_LIMIT, scale=1):
+        """``scale`` multiplies the size, element, cell and time limits: a spreadsheet
+        engine's recalculated copy of a checked file (RECALCULATED_SCALE)."""
         self.path = Path(path)
+        self.scale = scale
+        time_limit *= scale
         self.deadline = time.process_time() + time_limit
         self.time_limit = time_limit
+        self.max_unpacked, self.max_part = MAX_UNPACKED * scale, MAX_PART * scale
         self._elements = 0
         self._cells = 0
         self._check_file()
@@ -150,8 +159,9 @@ class XlsxBook:
             if member.flag_bits & 0x1:
                 raise Unreadable("encrypted zip parts: not opened")
             total += member.file_size
-            if total > MAX_UNPACKED or member.file_size > MAX_PART:
-                raise Unreadable(f"unpacks to more than {MAX_UNPACKED // 2**20} MB (zip bomb?)")
+            if total > self.max_unpacked or member.file_size > self.max_part:
+                raise Unreadable(f"unpacks to more than {self.max_unpacked // 2**20} MB "
+                                 f"(zip bomb?)")
             if member.file_size > 1024 * 1024 and \
                     member.file_size > MAX_RATIO * max(member.compress_size, 1):
                 raise Unreadable(f"{member.filename} is compressed {MAX_RATIO}:1 or more "
@@ -178,13 +188,13 @@ class XlsxBook:
         self._tick()
         try:
             with self.zip.open(name) as stream:
-                data = stream.read(MAX_PART + 1)
+                data = stream.read(self.max_part + 1)
         except KeyError:
             if required:
                 raise Unreadable(f"the part {name} is missing") from None
             return None
-        if len(data) > MAX_PART:
-            raise Unreadable(f"{name} unpacks to more than {MAX_PART // 2**20} MB")
+        if len(data) > self.max_part:
+            raise Unreadable(f"{name} unpacks to more than {self.max_part // 2**20} MB")
         return data
 
     def _stream(self, name, tags):
@@ -208,8 +218,8 @@ class XlsxBook:
             self._elements += 1
             if not self._elements % 20000:
                 self._tick()
-                if self._elements > MAX_ELEMENTS:
-                    raise Unreadable(f"more than {MAX_ELEMENTS:,} XML elements: not a "
+                if self._elements > MAX_ELEMENTS * self.scale:
+                    raise Unreadable(f"more than {MAX_ELEMENTS * self.scale:,} XML elements: not a "
                                      f"workbook crankbook wrote")
             if element.tag in tags:
                 open_targets -= 1
@@ -325,8 +335,8 @@ class XlsxBook:
                     else:
                         followers[key] = formula.get("si")
                 self._cells += 1
-                if self._cells > MAX_CELLS:
-                    raise Unreadable(f"more than {MAX_CELLS:,} cells: not a workbook "
+                if self._cells > MAX_CELLS * self.scale:
+                    raise Unreadable(f"more than {MAX_CELLS * self.scale:,} cells: not a workbook "
                                      f"crankbook wrote")
         except ElementTree.ParseError as error:
             raise Unreadable(f"sheet {name!r} is damaged XML ({error})") from None

@@ -165,6 +165,10 @@ class Evaluator:
             result, shape = np.asarray(result, dtype=float), self.shape_of(q)
             if result.shape != shape and result.size == int(np.prod(shape)) and result.ndim:
                 result = result.reshape(shape)      # one case of a per-case series: (N, 1)
+            elif q.items and self.spec.axis[q.items].aligned and result.ndim and \
+                    result.shape[-1] > shape[-1] == 1:
+                # one case of an aligned axis reads item 1 of the axis it is aligned to
+                result = result[..., :1]
             result = np.broadcast_to(result, shape).copy()
         else:
             # numpy scalars: a division by 0 (an underflowed tiny input) gives inf or NaN —
@@ -207,10 +211,27 @@ class Evaluator:
         self.memo[key] = result
         return result
 
+    def _snapped(self, q, key, value):
+        """A discrete result that picks one of a per-item input's values (the speed of
+        the peak torque), exactly as the input holds it (3000, not 3000.0000000000005
+        after the trip through SI units)."""
+        unit = self.spec.unit_of(key)
+        for source in q.args.values():
+            parameter = self.spec.parameter.get(source)
+            if parameter is None or parameter.axis is None or parameter.unit != unit:
+                continue
+            points = np.asarray(self.values[source], dtype=float)
+            nearest = float(points[np.argmin(np.abs(points - value))])
+            if abs(nearest - value) <= 1e-12 * max(abs(nearest), 1.0):
+                return nearest
+        return value
+
     def sheet_value(self, key):
         value = self.si(key) / units.si_factor(self.spec.unit_of(key))
         q = self.spec.quantity.get(key)
         grid = q.args.get("crank_angle") if q is not None and q.discrete else None
+        if q is not None and q.discrete and np.ndim(value) == 0 and np.isfinite(value):
+            value = self._snapped(q, key, value)
         if grid in self.grids and np.ndim(value) == 0 and np.isfinite(value):
             # a grid angle, exactly as the grid holds it (245, not 245.00000000000003)
             points = np.asarray(self.grids[grid], dtype=float)

@@ -183,6 +183,11 @@ class Locator:
             item = self._component(aligned, context)
             if item is not None:
                 return item if self.axis_sizes[axis] > 1 else 1
+        # the other way: case k of an aligned axis reads item k of the axis it is
+        # aligned to (a pressure per operating point reads its point's heat)
+        for own in (context.axis, *product):
+            if self.spec.axis[own].aligned == axis:
+                return self._component(own, context)
         return None
 
     def _reference(self, node, context):
@@ -268,6 +273,8 @@ class Locator:
             raise CompileError(f"{{{node.key}}}: which {second}?")
         left = place.col + (b - 1) * size
         if isinstance(a, int):
+            if not 1 <= a <= size:
+                return "0"               # item(EXPR) folded to no item, as for any axis
             return self._column(node, place, context, col=left + a - 1)
         top, bottom = self.grid_rows[place.grid]
         if context.grid == place.grid:

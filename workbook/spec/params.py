@@ -208,7 +208,9 @@ def validate(spec, values, trace_points=0, tables=None, grids=None):
     values = fit_derived_items(spec, values, sizes)
     for axis in spec.axes:
         if sizes[axis.key] > axis.max:
-            raise LayoutError(f"{sizes[axis.key]} {axis.label_en.lower()}s: at most {axis.max}")
+            noun = axis.label_en.lower()
+            raise LayoutError(f"{sizes[axis.key]} {noun}{'' if noun.endswith('s') else 's'}: "
+                              f"at most {axis.max}")
         if sizes[axis.key] < 1:
             raise LayoutError(f"the {axis.en.lower()} table needs at least one "
                               f"{axis.label_en.lower()}")

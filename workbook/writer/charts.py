@@ -248,12 +248,13 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
     sheet's worksheet ``ws``, an equal-axis chart also writes its live frame there."""
     spec, lang = layout.spec, layout.lang
     sheet = layout.sheet_name[sheet_spec.key]
-    x_key = chart_spec.x or sheet_spec.grid
+    x_key = chart_spec.x or (chart_spec.x_each[0] if chart_spec.x_each else sheet_spec.grid)
+    own_x = bool(chart_spec.x or chart_spec.x_each)      # not the sheet's grid
     x_q = spec.quantity.get(x_key) or spec.parameter[x_key]     # an items sheet's input too
     kind = "column" if chart_spec.type == "column" else "scatter"
     chart = book.add_chart({"type": kind} if kind == "column" else
                            {"type": "scatter", "subtype": "straight"})
-    x_ranges = _ranges(layout, x_key) if chart_spec.x else \
+    x_ranges = _ranges(layout, x_key) if own_x else \
         [(None, f"{quote_sheet(sheet)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}")]
     curves, xs, ys, used_x, used_y = 0, [], [], [], []
     unnamed = []                       # curves the legend leaves out (emphasis below 2)
@@ -266,7 +267,7 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
             x_key = chart_spec.x_each[number]
             x_ranges = _ranges(layout, x_key)
         for index, (name, values) in enumerate(_ranges(layout, key,
-                                                        short=bool(chart_spec.x),
+                                                        short=own_x,
                                                         chart_spec=chart_spec,
                                                         results=results)):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
