@@ -193,6 +193,8 @@ def work_of_mep(mean_effective_pressure, displaced_volume):
 def speed_of_peak(operating_speed, values):
     """The operating speed of the largest value (the first, where it recurs) [rad/s]."""
     values = np.asarray(values, dtype=float)
+    if not np.isfinite(values).any():
+        return float("nan")                  # no point has a value: a blank cell
     return float(np.asarray(operating_speed, dtype=float)[int(np.nanargmax(values))])
 
 

@@ -15,6 +15,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from crankbook.calc import charge
+
 
 # ---------------------------------------------------------------- loads
 def per_throw(cylinder_values, throw):
@@ -308,3 +310,22 @@ def alternative_torque(alt_piston_force, alt_crank_angle_from_axis, alt_rod_angl
     """M′ = F′·sin(ψ′ + β′)/cos β′·r′ [N·m]."""
     return np.asarray(alt_piston_force) * np.sin(alt_crank_angle_from_axis + alt_rod_angle) \
         / np.cos(alt_rod_angle) * alternative_crank_radius
+
+
+def alternative_pressure(pressure_source, stroke_study_pressure, cylinder_pressure,
+                         alt_model_pressure):
+    """The stroke study's cylinder pressure with the alternative stroke [Pa]: the
+    pressure model redone for it (``stroke_study_pressure`` 1), else — and always for a
+    measured trace (``pressure_source`` 1) — the same p(α)."""
+    same = float(pressure_source) == 1 or float(stroke_study_pressure) == 2
+    return np.asarray(cylinder_pressure if same else alt_model_pressure, dtype=float)
+
+
+def alternative_heat(choice, heat_released, volumetric_efficiency, air_density,
+                     displaced_volume, air_fuel_ratio, fuel_lhv, combustion_efficiency):
+    """Q′ with the alternative swept volume [J]: as typed (``choice`` 1), else its
+    charge's heat η_v·ρ_i·V_d′/AFR·Q_LHV·η_c (calc.charge)."""
+    fuel = charge.fuel_mass(charge.trapped_air_mass(volumetric_efficiency, air_density,
+                                                    displaced_volume), air_fuel_ratio)
+    return charge.chosen(choice, heat_released,
+                         charge.heat_from_charge(fuel, fuel_lhv, combustion_efficiency))

@@ -24,12 +24,6 @@ def indicated_power(mean_torque, speed):
     return mean_torque * speed
 
 
-def work_of_mean_torque(mean_torque, cycle):
-    """Work per working cycle W = M_mean·(crank angle of one cycle) [J]: the work the mean
-    torque does, consistent with the power M_mean·ω."""
-    return mean_torque * cycle
-
-
 def indicated_work(cylinder_pressure, cylinder_volume):
     """Indicated work per cycle ∮p·dV [J], trapezoidal rule over the closed cycle."""
     p = np.asarray(cylinder_pressure, dtype=float)

@@ -61,6 +61,12 @@ def engine_displacement(cylinder_count, bore, stroke):
     return cylinder_count * np.pi / 4 * bore ** 2 * stroke
 
 
+def engine_work(cylinder_count, indicated_work):
+    """The engine's indicated work per cycle W = Z·∮p·dV [J]: every cylinder runs the
+    same cycle, so one integration serves all (Heywood §2.4)."""
+    return cylinder_count * indicated_work
+
+
 def crank_angle_of_throw(firing_angle, bank_angle):
     """θ_i at α = 0: the crank of cylinder i from the vertical, in [0, 2π) [rad]."""
     return np.mod(np.asarray(bank_angle, dtype=float) - np.asarray(firing_angle, dtype=float),

@@ -25,7 +25,7 @@ for the superposition of gas and inertia forces.
 """
 import numpy as np
 
-from crankbook.calc import crankshaft, multicylinder
+from crankbook.calc import crankshaft, cycle, multicylinder
 
 
 # ---------------------------------------------------------------- points and cases
@@ -350,7 +350,6 @@ def point_trace_speed_mismatch(pressure_source, operating_trace_count, operating
 def point_imep(case_pressure, cylinder_volume, displaced_volume, operating_speed):
     """IMEP = ∮p·dV/V_d of each point's cylinder pressure (trapezoidal over the closed
     cycle) (P,) [Pa]."""
-    from crankbook.calc import cycle
     columns = _for_points(case_pressure, np.size(operating_speed))
     return np.array([cycle.indicated_work(columns[:, k], cylinder_volume)
                      for k in range(columns.shape[1])]) / displaced_volume

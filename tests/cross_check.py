@@ -72,13 +72,16 @@ WORKBOOKS = {
     # multi-cylinder layouts (issue 11) ------------------------------------------
     "inline4": {"args": ["--preset", "inline-4", "--step", "4"]},
     # … with a Holzer grid that ends at 600 Hz: its last 200 rows are blank
+    # (three operating points where the speed range is not what is checked: with the
+    # pressure from the charge each point has its own pressure columns)
     "inline6_step3": {"args": ["--preset", "inline-6", "--step", "3", "--set",
-                               "holzer_max_frequency=600"]},
+                               "holzer_max_frequency=600", "--set", "operating_speed=1500,4000,6500"]},
     "v8_counterweights": {"args": ["--preset", "v8-crossplane", "--set", "counterweights=1",
-                                   "--set", "balance_fraction=0.5", "--step", "3"]},
+                                   "--set", "balance_fraction=0.5", "--step", "3", "--set", "operating_speed=1500,4000,6500"]},
     "vtwin_series_step2_en": {"args": ["--preset", "v-twin-90", "--set", "exact_kinematics=0",
-                                       "--step", "2", "--lang", "en"]},
-    "boxer4": {"args": ["--preset", "boxer-4", "--set", "counterweights=1", "--step", "4"]},
+                                       "--step", "2", "--lang", "en", "--set", "operating_speed=1500,4000,6500"]},
+    "boxer4": {"args": ["--preset", "boxer-4", "--set", "counterweights=1", "--step", "4",
+                        "--set", "operating_speed=1500,4000,6500"]},
     "inline4_edit_layout": {"edit_of": "inline4",
                             "edits": {"firing_angle": [360.0, 540.0, 180.0, 0.0],
                                       "bank_angle": [10.0, 10.0, 10.0, 10.0],
@@ -107,7 +110,8 @@ WORKBOOKS = {
                                          "alternative_stroke": 104.0, "counterweights": 1.0,
                                          "exhaust_valve_opening": 480.0}},
     "inline4_check_throw3": {"args": ["--preset", "inline-4", "--set", "check_throw=3",
-                                      "--set", "counterweights=1", "--step", "4"]},
+                                      "--set", "counterweights=1", "--step", "4",
+                                      "--set", "operating_speed=1500,4000,6500"]},
     "inline4_invalid_throw": {"edit_of": "inline4", "edits": {"throw": [1.0, 1.0, 3.0, 4.0]},
                               "valid": False},
     # the speed range (issue 21): a measured trace per speed, on one and eight cylinders
@@ -116,6 +120,22 @@ WORKBOOKS = {
                                  "--step", "6", "--set", "check_throw=2"]},
     # … the design speed typed over with another of the file's speeds: its trace is not
     # on the Pressure sheet, so every result goes blank and the status says why
+    # the charge (issue 41): the thesis engine's heat from its charge, the combustion
+    # angles and η_v from the table, friction typed per point, in English
+    "thesis_charge_en": {"args": ["--set", "heat_release_source=charge", "--set",
+                                  "combustion_timing=table", "--set", "friction_source=typed",
+                                  "--set", "operating_fmep_typed=0.1,0.12,0.14,0.16,0.18,0.2,"
+                                  "0.22,0.24,0.26,0.28,0.3,0.32", "--set",
+                                  "stroke_study_pressure=model", "--step", "3", "--lang", "en"]},
+    # … a charge table typed into the cells out of order: the status says so
+    "thesis_charge_unordered": {"edit_of": "thesis_charge_en",
+                                "edits": {"charge_speed": [1000.0, 3000.0, 2000.0, 4000.0,
+                                                           5000.0, 6000.0, 7000.0]},
+                                "valid": False},
+    # … and a workbook laid out with one pressure for every speed switched to the charge
+    # in its cells: its points cannot each get a pressure until it is rebuilt, and say so
+    "thesis_switched_to_charge": {"edit_of": "thesis_step3",
+                                  "edits": {"heat_release_source": "charge"}, "valid": False},
     "thesis_traces_speed_edited": {"edit_of": "thesis_speed_traces", "edits": {"speed": 3500.0},
                                    "valid": False},
 }

@@ -50,7 +50,9 @@ INVALID = {"thesis_invalid": ("rod too short", "连杆过短"),
            "inline4_invalid_throw": ("cylinders on one throw must have one crank angle",
                                      "同一曲拐上的气缸"),
            "thesis_traces_speed_edited": ("measured trace was recorded at trace_speed",
-                                          "实测示功图是在 trace_speed 转速下测得的")}
+                                          "实测示功图是在 trace_speed 转速下测得的"),
+           "thesis_charge_unordered": ("strictly ascending speeds",),
+           "thesis_switched_to_charge": ("rebuild the workbook", "重新生成工作簿")}
 
 
 @pytest.mark.parametrize("engine", ENGINES)
