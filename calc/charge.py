@@ -241,3 +241,14 @@ def on_every_point(value, operating_speed):
     """A scalar repeated on every operating point (a vertical line on a chart over
     speed) (P,)."""
     return np.full(np.size(operating_speed), float(value))
+
+
+def drop_line(values):
+    """A vertical line's heights on a chart over speed: 0 at the first point, the
+    largest value at the others (drawn at one speed, it runs from the axis to the
+    peak) (P,)."""
+    values = np.asarray(values, dtype=float)
+    top = np.nanmax(values) if np.isfinite(values).any() else np.nan
+    out = np.full(values.shape, top)
+    out[0] = 0.0
+    return out

@@ -51,8 +51,7 @@ INVALID = {"thesis_invalid": ("rod too short", "连杆过短"),
                                      "同一曲拐上的气缸"),
            "thesis_traces_speed_edited": ("measured trace was recorded at trace_speed",
                                           "实测示功图是在 trace_speed 转速下测得的"),
-           "thesis_charge_unordered": ("strictly ascending speeds",),
-           "thesis_switched_to_charge": ("rebuild the workbook", "重新生成工作簿")}
+           "thesis_charge_unordered": ("strictly ascending speeds",)}
 
 
 @pytest.mark.parametrize("engine", ENGINES)
@@ -65,6 +64,17 @@ def test_impossible_inputs_show_words_not_errors(checked, engine, name):
         assert words in recalculated["q_input_status"]
     assert all(v in (None, "") for v in recalculated["q_torque"]), "blank, not #NUM!"
     assert recalculated["q_torque_max"] in (None, "")
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_a_layout_switched_to_the_charge_asks_for_a_rebuild(checked, engine):
+    """One pressure for every speed, switched to the charge in its cells: numpy lays the
+    inputs out afresh (a pressure per point), the file cannot, so its status says to
+    rebuild and its results stay blank rather than show one speed's pressure at all."""
+    recalculated = checked["thesis_switched_to_charge"].engines[engine]
+    assert recalculated["q_inputs_valid"] == 0
+    assert "rebuild the workbook" in recalculated["q_input_status"]
+    assert all(v in (None, "") for v in recalculated["q_operating_brake_power"])
 
 
 def test_course_positions_follow_parameter_edits(checked):
