@@ -116,7 +116,7 @@ def _quantity(entry, kind, **extra):
     known = {"key", "unit", "zh", "en", "formula", "calc", "args", "part", "summary", "format",
              "first",
              "guard", "array", "items", "_file", "_prefix", "names", "discrete", "must_pass",
-             "item_word_zh", "item_word_en"}
+             "item_word_zh", "item_word_en", "fold"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, entry["key"], f"unknown field(s) {', '.join(sorted(unknown))}")
@@ -131,6 +131,7 @@ def _quantity(entry, kind, **extra):
                                if f"item_word_{lang}" in entry},
                     discrete=entry.get("discrete", False),
                     must_pass=entry.get("must_pass", False),
+                    fold=entry.get("fold", False),
                     source=file, **extra)
 
 

@@ -168,6 +168,8 @@ class Quantity:
     names: tuple = ()             # rules: the parameters the rule is about
     discrete: bool = False        # an index or a grid angle: agrees exactly or not at all
     must_pass: bool = False       # a 1/0 check: 0 refuses the build with one line
+    fold: bool = False            # items sheets: a working column, grouped and folded
+                                  # (it neither shows nor prints until unfolded)
     source: str = ""              # the template file that defines it
 
     @property

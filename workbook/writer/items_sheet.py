@@ -24,7 +24,9 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     item_values = results[axis.value_key] if axis.value_key in results else [None] * count
     labels = [axis.label(layout.lang, i + 1, item_values[i]) for i in range(count)]
     widths = [key_width(labels, 12)] + [COLUMN_WIDTH] * last_col
-    pages_wide = math.ceil(sum(w * 7 + 5 for w in widths) / PAGE_PIXELS)
+    folded = {layout.places[q.key].col for q in plan.columns if q.fold}
+    pages_wide = math.ceil(sum(w * 7 + 5 for c, w in enumerate(widths) if c not in folded)
+                           / PAGE_PIXELS)
     # a table printed several pages wide: the titles wrap within its first page's share
     # of the columns (a merged cell cut by a page break loses its text)
     first_page = widths[:max(2, len(widths) // pages_wide)]
@@ -47,6 +49,10 @@ def write_items_sheet(book, plan, layout, values, results, styles):
                 quantity.unit, layout, styles, width=max(
                     COLUMN_WIDTH, math.ceil(format_words_width(in_language(
                         quantity.format or "", layout.lang)))))
+        if quantity.fold:
+            # a working column (a chart's helper, an interpolation index): grouped and
+            # folded, the outline's [+] opens it; it does not print
+            ws.set_column(col, col, COLUMN_WIDTH, None, {"level": 1, "hidden": True})
         for i in range(count):
             write_formula_cell(ws, FIRST_ROW + i, col, quantity, layout, results, styles, name,
                                item=i + 1, value=results[quantity.key][i])
