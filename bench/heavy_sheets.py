@@ -34,7 +34,8 @@ if verify:
     ok = bool(crankbook.verify(path, progress=False)["ok"].all())
     checked = time.perf_counter() - started
 size = sum(i.file_size for i in zipfile.ZipFile(path).infolist())
-print(json.dumps({"build": built, "verify": checked, "unpacked": size, "ok": ok if verify else None}))
+print(json.dumps({"build": built, "verify": checked, "unpacked": size,
+                  "ok": ok if verify else None}))
 """
 
 
@@ -53,7 +54,8 @@ def assemble(tree, into):
 def run(side, preset, out, verify):
     environment = {**os.environ, "PYTHONPATH": os.pathsep.join(
         [str(side), sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]])}
-    done = subprocess.run([sys.executable, "-S", "-c", RUN, preset, str(out), "1" if verify else "0"],
+    done = subprocess.run([sys.executable, "-S", "-c", RUN, preset, str(out),
+                           "1" if verify else "0"],
                           capture_output=True, text=True, env=environment, check=False)
     if done.returncode:
         raise SystemExit(f"bench: {side}: {done.stderr.strip().splitlines()[-1]}")

@@ -219,8 +219,8 @@ class XlsxBook:
             if not self._elements % 20000:
                 self._tick()
                 if self._elements > MAX_ELEMENTS * self.scale:
-                    raise Unreadable(f"more than {MAX_ELEMENTS * self.scale:,} XML elements: not a "
-                                     f"workbook crankbook wrote")
+                    raise Unreadable(f"more than {MAX_ELEMENTS * self.scale:,} XML elements: "
+                                     f"not a workbook crankbook wrote")
             if element.tag in tags:
                 open_targets -= 1
                 yield element

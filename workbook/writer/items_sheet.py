@@ -28,8 +28,14 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     pages_wide = math.ceil(sum(w * 7 + 5 for c, w in enumerate(widths) if c not in folded)
                            / PAGE_PIXELS)
     # a table printed several pages wide: the titles wrap within its first page's share
-    # of the columns (a merged cell cut by a page break loses its text)
-    first_page = widths[:max(2, len(widths) // pages_wide)]
+    # of the printed columns (a merged cell cut by a page break loses its text; a folded
+    # column inside the merge takes no width on paper)
+    share, shown, first_page = max(2, (len(widths) - len(folded)) // pages_wide), 0, []
+    for col, width in enumerate(widths):
+        if shown >= share:
+            break
+        first_page.append(0 if col in folded else width)
+        shown += col not in folded
     wrapped_title(ws, 0, label(sheet, layout.lang, "title_"), first_page, styles.title_wrap)
     wrapped_title(ws, 1, label(sheet, layout.other, "title_"), first_page, styles.subtitle_wrap)
     headers(ws, 0, (label(axis, layout.lang), label(axis, layout.other)), "-", layout, styles,
