@@ -138,3 +138,19 @@ def flywheel_implausible(station_inertia, bore):
     inertia = np.asarray(station_inertia, dtype=float)
     flywheel, throws = inertia[-1], inertia[1:-1].sum()
     return _flag((flywheel < throws) | (flywheel > STEEL_DENSITY * 4 * np.pi * bore ** 5))
+
+
+def sweep_reversed(sweep_speed_min, sweep_speed_max):
+    """1 where both sweep bounds are typed and the lowest is not below the highest."""
+    return _flag((np.asarray(sweep_speed_min) > 0) & (np.asarray(sweep_speed_max) > 0)
+                 & (np.asarray(sweep_speed_min) >= sweep_speed_max))
+
+
+def damper_without_inertia(damper_kind, damper_inertia):
+    """1 where a damper is chosen whose ring has no inertia."""
+    return _flag((np.asarray(damper_kind) > 0) & (np.asarray(damper_inertia) == 0))
+
+
+def tuned_without_stiffness(damper_kind, damper_stiffness):
+    """1 where a tuned damper has no rubber stiffness to be tuned by."""
+    return _flag((np.asarray(damper_kind) == 2) & (np.asarray(damper_stiffness) == 0))

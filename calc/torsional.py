@@ -397,7 +397,7 @@ def resonant_amplitude(resonant_torque_amplitude, relative_amplitude_sum,
     ----------
     resonant_torque_amplitude : array (N, modes) [N·m]
     relative_amplitude_sum : array (N, modes) [-]
-    torsion_damping_ratio : float ζ [-]
+    torsion_damping_ratio : float ζ [-]; 0 leaves the amplitude blank (NaN)
     natural_frequency : array (modes,) [Hz]
     modal_inertia : array (modes,) [kg·m²]
 
@@ -410,6 +410,8 @@ def resonant_amplitude(resonant_torque_amplitude, relative_amplitude_sum,
     Den Hartog, *Mechanical Vibrations*, §5.8 (the energy method at resonance).
     """
     omega2 = (2 * np.pi * np.asarray(natural_frequency, dtype=float)) ** 2
+    if torsion_damping_ratio <= 0:          # no modal damping: the balance has no answer
+        return np.full(np.shape(resonant_torque_amplitude), np.nan)
     return np.asarray(resonant_torque_amplitude, dtype=float) * np.asarray(
         relative_amplitude_sum, dtype=float) / (
         2 * torsion_damping_ratio * omega2[None, :] * np.asarray(modal_inertia, dtype=float))

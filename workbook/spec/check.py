@@ -167,6 +167,11 @@ def _check_nodes(spec, q, nodes, known, where, sums):
                 if grid is None or grid.period is None:
                     raise SpecError(where, q.key, f"{{{node.key}:at(…)}} needs a series on a "
                                                   f"periodic grid")
+            if node.part == "rows":
+                target = spec.quantity.get(node.key)
+                if target is None or not target.is_series:
+                    raise SpecError(where, q.key, f"{{{node.key}:rows}} needs a grid or a "
+                                                  f"series on one")
             if node.part in ("items", "item"):
                 owner = spec.parameter.get(node.key) or spec.quantity.get(node.key)
                 axis = getattr(owner, "axis", None) if node.key in spec.parameter \

@@ -202,6 +202,12 @@ class Locator:
             return f"p_{key}"
         if key in spec.table_column:
             return self._table_column(node, spec.table_column[key], context)
+        if node.part == "rows":
+            # a grid's rows as laid out when the workbook was built: a number, so a rule
+            # can tell a count typed afterwards from the layout without reading the
+            # grid's (guarded) cells
+            top, bottom = self.grid_rows[spec.quantity[key].grid]
+            return str(bottom - top + 1)
         place = self.places[key]
         axis = parameter.axis if parameter is not None else spec.quantity[key].items
         if place.kind == "items":

@@ -5,6 +5,7 @@ A template is Excel formula text with placeholders in braces (docs/templates.md)
     {key}               a parameter, constant, quantity (its meaning depends on where
                         the formula is: see crankbook.spec.formulas)
     {key:head}          a part of a series: head, tail, prev, last, all, items
+    {key:rows}          the number of rows of a grid as laid out, a number
     {key:at(EXPR)}      a periodic series at the grid angle EXPR
     {key:item(EXPR)}    item EXPR (1-based) of a per-item quantity
     {key|unit}          converted into ``unit`` (any part may be converted too)
@@ -19,7 +20,7 @@ import re
 from dataclasses import dataclass
 
 NAME = re.compile(r"[a-z_][a-z_0-9]*")
-PARTS = ("head", "tail", "prev", "last", "all", "items")
+PARTS = ("head", "tail", "prev", "last", "all", "items", "rows")
 CALL_PARTS = ("at", "item")
 SPECIAL = ("item", "index", "row_index")
 

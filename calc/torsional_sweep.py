@@ -1,0 +1,404 @@
+"""The forced torsional response over a speed sweep, laid out as the workbook lays it out.
+
+:mod:`crankbook.calc.forced_torsion` holds the physics of one frequency; this module
+runs it over every speed of a sweep and every torque order k = 0.5 … 12, one row per
+(speed, order) pair — speed s, order k at row 24·(s − 1) + 2k — so that each workbook
+formula has one calc function here, cell for cell:
+
+* the sweep: ``p_sweep_speed_count`` even speeds from the lowest to the highest, and
+  before them the critical speeds of the lowest three modes that fall strictly inside
+  the range (24 reserved rows per mode, blank where a critical speed lies outside),
+  sorted, so that no resonance peak falls between grid points;
+* the excitation of each station: its cylinders' order-k torque harmonics with their
+  firing phase.  One cylinder's torque is M(α) = M_mean + Σ a_k·cos kα + b_k·sin kα
+  (the torque-harmonics sheet) and cylinder c's is M(α − φ_c), so its order-k part is
+  Re[(a_k − i·b_k)·e^(−ikφ_c)·e^(ikα)]: the complex amplitude F = (a − ib)·e^(−ikφ_c),
+  the phase convention of every formula here (tested by rebuilding the engine's
+  torque from it).  The gas part is the design speed's; the inertia part scales with
+  (n/n_design)², as the critical-speed table's resonant torque does;
+* an absolute damper to ground at every throw (c_cyl), the shafts' loss factor
+  η = 2ζ + η_shaft on every stiffness (a modal damping ratio ζ is a loss factor 2ζ at
+  resonance; a hysteretic η gives C = η·k/ω at the order's own frequency ω), and a
+  damper at the front: its ring J_d on a coupling k_d + iωc_d is a station of its own,
+  condensed exactly onto the hub — a leaf station's dynamic stiffness,
+  ω²J_d·z/(z − ω²J_d), z = k_d + iωc_d, adds to the hub's ω²J_1;
+* the two passes of the complex Holzer recurrence (θ_1 = 1 without excitation,
+  θ_1 = 0 with it), the front amplitude θ_1 = −R_forced/R_free, each section's
+  elastic torque k·Δθ = T/(1 + iη) and its running sum over the orders (the
+  synthesis, the rules' conservative sum of order amplitudes).
+
+Units SI: speeds rad/s, torques N·m, angles rad, stresses Pa.  Blank cells are NaN.
+
+References
+----------
+Den Hartog, J. P., *Mechanical Vibrations*, 4th ed., McGraw-Hill, 1956, §5.6–5.9.
+Wilson, W. K., *Practical Solution of Torsional Vibration Problems*, vol. 2, 3rd ed.,
+Chapman & Hall, 1963 (forced response of a multi-mass system by Holzer's tabulation).
+IACS UR M68 Rev. 2 (2005), §3: the synthesis and the permissible stresses.
+"""
+from typing import NamedTuple
+
+import numpy as np
+
+from crankbook.calc import forced_torsion
+from crankbook.calc.torsional import CAMPBELL_MODES, ORDERS
+
+ORDER_COUNT = len(ORDERS)                # 24: k = 0.5, 1, …, 12
+SWEEP_MAX_COUNT = 201                    # p_sweep_speed_count's stated maximum
+
+
+# ---------------------------------------------------------------- the sweep
+def sweep_bound(typed, operating_speed, highest=False):
+    """The sweep's lowest (or highest) speed: the typed one, or 0 = the operating
+    points' lowest (highest) [rad/s]."""
+    if typed > 0:
+        return float(typed)
+    speeds = np.asarray(operating_speed, dtype=float)
+    return float(np.max(speeds) if highest else np.min(speeds))
+
+
+def sweep_low(sweep_speed_min, operating_speed):
+    """n_low [rad/s] (module docstring)."""
+    return sweep_bound(sweep_speed_min, operating_speed)
+
+
+def sweep_high(sweep_speed_max, operating_speed):
+    """n_high [rad/s] (module docstring)."""
+    return sweep_bound(sweep_speed_max, operating_speed, highest=True)
+
+
+def reserved_rows(critical_speed):
+    """Rows kept for critical speeds: 24 per mode of the lowest three."""
+    modes = np.asarray(critical_speed, dtype=float).reshape(ORDER_COUNT, -1).shape[1]
+    return ORDER_COUNT * min(CAMPBELL_MODES, modes)
+
+
+def sweep_candidates(sweep_low, sweep_high, sweep_speed_count, critical_speed):
+    """The unsorted sweep: the reserved critical-speed rows (mode-major, order within),
+    a critical speed strictly inside (n_low, n_high) or NaN, then the even speeds
+    n_low + j·(n_high − n_low)/(count − 1) [rad/s]."""
+    critical = np.asarray(critical_speed, dtype=float).reshape(ORDER_COUNT, -1)
+    modes = reserved_rows(critical) // ORDER_COUNT
+    kept = critical[:, :modes].T.ravel()                 # mode 1's orders, then mode 2's …
+    with np.errstate(invalid="ignore"):
+        kept = np.where((kept > sweep_low) & (kept < sweep_high), kept, np.nan)
+    count = int(round(sweep_speed_count))
+    even = sweep_low + np.arange(count) * (sweep_high - sweep_low) / (count - 1)
+    return np.concatenate([kept, even])
+
+
+def sweep_speeds(sweep_candidate):
+    """The candidates sorted, the blank ones last [rad/s]."""
+    c = np.asarray(sweep_candidate, dtype=float)
+    found = np.sort(c[np.isfinite(c)])
+    return np.concatenate([found, np.full(c.size - found.size, np.nan)])
+
+
+def sweep_stale(sweep_speed_count):
+    """0: numpy lays the sweep out for the count it is given (the workbook's rule
+    fires when the count is typed after the workbook was built)."""
+    return 0.0 * sweep_speed_count
+
+
+# ---------------------------------------------------------------- rows: speed × order
+def response_orders(sweep_speed):
+    """The order k of each (speed, order) row, NaN where the speed is blank [-]."""
+    speeds = np.ravel(sweep_speed).astype(float)
+    orders = np.tile(np.asarray(ORDERS), speeds.size)
+    return np.where(np.isfinite(np.repeat(speeds, ORDER_COUNT)), orders, np.nan)
+
+
+def response_speeds(response_order, sweep_speed):
+    """The speed of each row [rad/s] (NaN on a blank row)."""
+    speeds = np.repeat(np.ravel(sweep_speed).astype(float), ORDER_COUNT)
+    return np.where(np.isfinite(np.ravel(response_order)), speeds, np.nan)
+
+
+def response_sweep_rows(response_order):
+    """The sweep row s (1-based) each row belongs to."""
+    return np.arange(np.size(response_order)) // ORDER_COUNT + 1.0
+
+
+def response_harmonic(response_order, response_speed, speed, harmonic, inertia_harmonic):
+    """One cylinder's order-k harmonic (cosine a or sine b) at the row's speed: the
+    design speed's value with its inertia part scaled by (n/n_design)² [N·m]."""
+    k = np.ravel(response_order).astype(float)
+    n = np.ravel(response_speed).astype(float)
+    index = np.where(np.isfinite(k), np.round(2 * np.nan_to_num(k)) - 1, 0).astype(int)
+    total = np.asarray(harmonic, dtype=float)[index]
+    inertia = np.asarray(inertia_harmonic, dtype=float)[index]
+    return np.where(np.isfinite(k), total + ((n / speed) ** 2 - 1) * inertia, np.nan)
+
+
+class Complex(NamedTuple):
+    re: np.ndarray
+    im: np.ndarray
+
+
+def station_excitation(response_order, response_cosine, response_sine, firing_angle, throw,
+                       station_count):
+    """(rows, stations) complex order-k torque on each station: Σ over the cylinders on
+    its throw of (a − ib)·e^(−ikφ_c) [N·m]; the pulley and the flywheel carry none.
+    ``firing_angle`` φ_c [rad]."""
+    k = np.ravel(response_order).astype(float)[:, None]
+    a = np.ravel(response_cosine).astype(float)[:, None]
+    b = np.ravel(response_sine).astype(float)[:, None]
+    phi = np.asarray(firing_angle, dtype=float)
+    throws = np.asarray(throw, dtype=float)
+    stations = int(round(station_count))
+    cos_sum = np.zeros((k.shape[0], stations))
+    sin_sum = np.zeros((k.shape[0], stations))
+    for c in range(phi.size):
+        column = int(throws[c])                           # station of throw t is t + 1
+        cos_sum[:, column] += np.cos(k[:, 0] * phi[c])
+        sin_sum[:, column] += np.sin(k[:, 0] * phi[c])
+    return Complex(a * cos_sum - b * sin_sum, -(a * sin_sum + b * cos_sum))
+
+
+def damper_dynamic_term(response_order, response_speed, damper_kind, damper_inertia,
+                        damper_stiffness, damper_damping):
+    """What the damper's ring adds to the hub's ω²·J_1: ω²J_d·z/(z − ω²J_d) with
+    z = k_d + iωc_d (k_d = 0 for an untuned viscous damper; nothing without a damper)
+    [N·m/rad]."""
+    omega = np.ravel(response_order).astype(float) * np.ravel(response_speed).astype(float)
+    kind = int(round(damper_kind))
+    if kind == 0:
+        zero = np.where(np.isfinite(omega), 0.0, np.nan)
+        return Complex(zero, zero.copy())
+    a = omega ** 2 * damper_inertia
+    kd = damper_stiffness if kind == 2 else 0.0
+    wc = omega * damper_damping
+    den = (kd - a) ** 2 + wc ** 2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        re = np.where(den == 0, 0.0, a * (kd * (kd - a) + wc ** 2) / den)
+        im = np.where(den == 0, 0.0, -a ** 2 * wc / den)
+    return Complex(re, im)
+
+
+class Passes(NamedTuple):
+    free_theta_re: np.ndarray
+    free_theta_im: np.ndarray
+    free_torque_re: np.ndarray
+    free_torque_im: np.ndarray
+    forced_theta_re: np.ndarray
+    forced_theta_im: np.ndarray
+    forced_torque_re: np.ndarray
+    forced_torque_im: np.ndarray
+
+
+def holzer_passes(response_order, response_speed, station_inertia, section_stiffness,
+                  torsion_loss_factor, cylinder_damping, damper_re, damper_im,
+                  excitation_re, excitation_im):
+    """Both passes of the forced recurrence on every row, station by station as the
+    sheet's columns run (:mod:`crankbook.calc.forced_torsion`): D_i = ω²J_i − iωc_i
+    (+ the damper's term at the hub), T_i = T_(i−1) + D_i·θ_i (+ F_i),
+    θ_(i+1) = θ_i − T_i/(k_i·(1 + iη))."""
+    omega = (np.ravel(response_order).astype(float)
+             * np.ravel(response_speed).astype(float))[:, None]
+    inertia = np.asarray(station_inertia, dtype=float)
+    stiffness = np.asarray(section_stiffness, dtype=float)
+    n = inertia.size
+    eta = torsion_loss_factor
+    ground = np.array([0.0] + [cylinder_damping] * (n - 2) + [0.0])
+    d = omega ** 2 * inertia[None, :] - 1j * omega * ground[None, :]
+    d[:, 0] += np.ravel(damper_re) + 1j * np.ravel(damper_im)
+    force = np.asarray(excitation_re, dtype=float) + 1j * np.asarray(excitation_im, dtype=float)
+    out = []
+    for start, f in ((1.0, np.zeros_like(force)), (0.0, force)):
+        theta = np.zeros(d.shape, dtype=complex)
+        torque = np.zeros(d.shape, dtype=complex)
+        theta[:, 0] = start
+        running = np.zeros(d.shape[0], dtype=complex)
+        for i in range(n):
+            running = running + d[:, i] * theta[:, i] + f[:, i]
+            torque[:, i] = running
+            if i < n - 1:
+                theta[:, i + 1] = theta[:, i] - running / (stiffness[i] * (1 + 1j * eta))
+        out += [theta.real, theta.imag, torque.real, torque.imag]
+    blank = ~np.isfinite(omega[:, 0])
+    for part in out:
+        part[blank] = np.nan
+    return Passes(*out)
+
+
+def front_response(free_torque_re, free_torque_im, forced_torque_re, forced_torque_im):
+    """θ_1 = −R_forced/R_free, R the last station's torque of each pass [rad]."""
+    free = np.asarray(free_torque_re)[:, -1] + 1j * np.asarray(free_torque_im)[:, -1]
+    forced = np.asarray(forced_torque_re)[:, -1] + 1j * np.asarray(forced_torque_im)[:, -1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        theta = -forced / free
+    return Complex(theta.real, theta.imag)
+
+
+def front_amplitude_of(front_re, front_im):
+    """|θ_1| [rad] (the sheet shows degrees)."""
+    return np.hypot(np.ravel(front_re), np.ravel(front_im))
+
+
+def response_section_torque(front_re, front_im, free_torque_re, free_torque_im,
+                            forced_torque_re, forced_torque_im, torsion_loss_factor):
+    """(rows, sections) elastic vibratory torque amplitude |k·Δθ| = |T|/√(1 + η²) of
+    each section, T = θ_1·T_free + T_forced [N·m]."""
+    theta = (np.ravel(front_re) + 1j * np.ravel(front_im))[:, None]
+    torque = theta * (np.asarray(free_torque_re) + 1j * np.asarray(free_torque_im)) \
+        + np.asarray(forced_torque_re) + 1j * np.asarray(forced_torque_im)
+    return np.abs(torque[:, :-1]) / np.sqrt(1 + torsion_loss_factor ** 2)
+
+
+def block_running_sum(values, response_order):
+    """The running sum of each column over the orders of one speed (restarting at
+    k = 0.5): its last row is that speed's synthesis."""
+    v = np.asarray(values, dtype=float)
+    shape = v.shape
+    v = v.reshape(shape[0] // ORDER_COUNT, ORDER_COUNT, -1)
+    return np.cumsum(v, axis=1).reshape(shape)
+
+
+# ---------------------------------------------------------------- per speed
+def by_speed_and_order(values):
+    """A (rows,) column as (speeds, 24) [same unit]."""
+    return np.asarray(values, dtype=float).reshape(-1, ORDER_COUNT)
+
+
+def block_ends(running):
+    """(speeds, …) the last row of each speed's block of a running sum."""
+    r = np.asarray(running, dtype=float)
+    return r.reshape(r.shape[0] // ORDER_COUNT, ORDER_COUNT, -1)[:, -1, :].squeeze(-1) \
+        if r.ndim == 1 else r.reshape(r.shape[0] // ORDER_COUNT, ORDER_COUNT, -1)[:, -1, :]
+
+
+def front_amplitude_synthesis(front_amplitude):
+    """Σ over the orders of the front amplitudes at each speed [rad]."""
+    return np.sum(np.asarray(front_amplitude, dtype=float), axis=1)
+
+
+def section_stress(section_torque, main_journal_diameter, main_journal_bore):
+    """τ = 16·T·d_o/(π·(d_o⁴ − d_b⁴)) of every section (the main journal) [Pa]."""
+    return forced_torsion.section_shear_stress(section_torque, main_journal_diameter,
+                                               main_journal_bore)
+
+
+def rated_speed_used(rated_speed, operating_speed):
+    """n_0: the typed rated speed, or 0 = the highest operating speed [rad/s]."""
+    return sweep_bound(rated_speed, operating_speed, highest=True)
+
+
+def stress_limit(sweep_speed, rated_speed_used, shaft_tensile_strength, m68_ck,
+                 main_journal_diameter):
+    """IACS UR M68's τ_C at each sweep speed, λ = n/n_0 held at 1.05 above [Pa]."""
+    speed = np.ravel(sweep_speed).astype(float)
+    ratio = np.minimum(speed / rated_speed_used, 1.05)
+    limit = forced_torsion.m68_continuous_limit(shaft_tensile_strength, m68_ck,
+                                                main_journal_diameter, ratio)
+    return np.where(np.isfinite(speed), limit, np.nan)        # a blank row stays blank
+
+
+def transient_limit(sweep_stress_limit, m68_ck):
+    """τ_T = 1.7·τ_C/√C_K [Pa]."""
+    return forced_torsion.m68_transient_limit(sweep_stress_limit, m68_ck)
+
+
+def section_pass(section_stress, sweep_stress_limit):
+    """1 where a section's stress is within τ_C at that speed, 0 where not, NaN blank."""
+    s = np.asarray(section_stress, dtype=float)
+    limit = np.ravel(sweep_stress_limit)[:, None]
+    with np.errstate(invalid="ignore"):
+        return np.where(np.isfinite(s), (s <= limit).astype(float), np.nan)
+
+
+def failed_speed(sweep_speed, section_pass):
+    """The speed of a row where some section fails, NaN where none does [rad/s]."""
+    p = np.asarray(section_pass, dtype=float)
+    fails = np.any(p == 0, axis=1)
+    return np.where(fails, np.ravel(sweep_speed), np.nan)
+
+
+def worst_section_order_torque(response_section_torque, worst_section):
+    """(speeds, 24) each order's elastic torque at the worst section [N·m]."""
+    t = np.asarray(response_section_torque, dtype=float)
+    column = t[:, int(round(worst_section)) - 1]
+    return column.reshape(-1, ORDER_COUNT)
+
+
+# ---------------------------------------------------------------- per section
+def column_max(values):
+    """The largest value of each column [same unit]."""
+    return np.nanmax(np.asarray(values, dtype=float), axis=0)
+
+
+def speed_of_column_max(values, sweep_speed):
+    """The sweep speed of each column's largest value (the first, on a tie) [rad/s]."""
+    v = np.asarray(values, dtype=float)
+    return np.ravel(sweep_speed)[np.nanargmax(v, axis=0)]
+
+
+def nanmax_all(values):
+    """The largest value of a block [same unit]."""
+    return float(np.nanmax(np.asarray(values, dtype=float)))
+
+
+def first_max_item(values):
+    """The 1-based item of the largest value (the first, on a tie)."""
+    return float(np.nanargmax(np.asarray(values, dtype=float)) + 1)
+
+
+def item_value(values, item):
+    """Item ``item`` (1-based) of a per-item array [same unit]."""
+    return float(np.asarray(values, dtype=float)[int(round(item)) - 1])
+
+
+def all_pass(section_pass):
+    """1 when no section fails at any sweep speed, else 0."""
+    return float(not np.any(np.asarray(section_pass, dtype=float) == 0))
+
+
+def barred_low(sweep_failed_speed):
+    """The lowest failing speed, NaN when none fails [rad/s]."""
+    s = np.asarray(sweep_failed_speed, dtype=float)
+    return float(np.nanmin(s)) if np.isfinite(s).any() else np.nan
+
+
+def barred_high(sweep_failed_speed):
+    """The highest failing speed, NaN when none fails [rad/s]."""
+    s = np.asarray(sweep_failed_speed, dtype=float)
+    return float(np.nanmax(s)) if np.isfinite(s).any() else np.nan
+
+
+# ---------------------------------------------------------------- Den Hartog's optima
+def damper_optimum_damping(damper_kind, damper_inertia, natural_frequency, modal_inertia):
+    """Den Hartog's optimum damping for mode 1 [N·m·s/rad]: c = 2·J_d·ω_n·ζ_opt with
+    μ = J_d/J_m (J_m mode 1's inertia at the front, front amplitude 1), ζ_opt of the
+    untuned viscous damper (kind 0 or 1) or of the tuned absorber (kind 2)."""
+    wn = 2 * np.pi * float(np.ravel(natural_frequency)[0])
+    mu = damper_inertia / float(np.ravel(modal_inertia)[0])
+    ratio = forced_torsion.tuned_absorber_damping_ratio(mu) if round(damper_kind) == 2 \
+        else forced_torsion.untuned_damper_optimum_ratio(mu)
+    return 2 * damper_inertia * wn * float(ratio)
+
+
+def damper_optimum_stiffness(damper_kind, damper_inertia, natural_frequency, modal_inertia):
+    """The tuned absorber's optimum k_d = J_d·(ω_n/(1 + μ))² [N·m/rad]; 0 for a viscous
+    damper (kind 0 or 1)."""
+    if round(damper_kind) != 2:
+        return 0.0
+    wn = 2 * np.pi * float(np.ravel(natural_frequency)[0])
+    mu = damper_inertia / float(np.ravel(modal_inertia)[0])
+    return damper_inertia * (wn * float(forced_torsion.tuned_absorber_frequency_ratio(mu))) ** 2
+
+
+def loss_factor(torsion_damping_ratio, shaft_loss_factor):
+    """η = 2ζ + η_shaft on every shaft stiffness [-]."""
+    return 2 * torsion_damping_ratio + shaft_loss_factor
+
+
+def candidate_is_critical(sweep_candidate, critical_speed):
+    """1 on a candidate row that holds a critical speed, 0 on an even speed, NaN blank."""
+    c = np.ravel(sweep_candidate).astype(float)
+    flags = (np.arange(c.size) < reserved_rows(critical_speed)).astype(float)
+    return np.where(np.isfinite(c), flags, np.nan)
+
+
+def limit_at_column_max(values, limit):
+    """Each column's τ_C at the speed of its largest value [Pa]."""
+    v = np.asarray(values, dtype=float)
+    return np.ravel(limit)[np.nanargmax(v, axis=0)]
