@@ -11,8 +11,10 @@ formula has one calc function here, cell for cell:
   sorted, so that no resonance peak falls between grid points;
 * the excitation of each station: its cylinders' order-k torque harmonics with their
   firing phase.  One cylinder's torque is M(α) = M_mean + Σ a_k·cos kα + b_k·sin kα
-  (the torque-harmonics sheet) and cylinder c's is M(α − φ_c), so its order-k part is
-  Re[(a_k − i·b_k)·e^(−ikφ_c)·e^(ikα)]: the complex amplitude F = (a − ib)·e^(−ikφ_c),
+  (the torque-harmonics sheet) and cylinder c's is M(α − φ_c + 360°) (the engine-torque
+  sheet's: its firing angle φ_c counts from cylinder 1's firing TDC, at 360° of M's
+  cycle), so its order-k part is Re[(a_k − i·b_k)·e^(−ik(φ_c − 360°))·e^(ikα)]: the
+  complex amplitude F = (a − ib)·e^(−ik(φ_c − 360°)),
   the phase convention of every formula here (tested by rebuilding the engine's
   torque from it).  The gas part is the design speed's; the inertia part scales with
   (n/n_design)², as the critical-speed table's resonant torque does;
@@ -68,9 +70,11 @@ def sweep_high(sweep_speed_max, operating_speed):
 
 
 def reserved_rows(critical_speed):
-    """Rows kept for critical speeds: 24 per mode of the lowest three."""
-    modes = np.asarray(critical_speed, dtype=float).reshape(ORDER_COUNT, -1).shape[1]
-    return ORDER_COUNT * min(CAMPBELL_MODES, modes)
+    """Rows kept for critical speeds: 24 per mode found, of the lowest three (a mode
+    above the Holzer table's frequencies has no critical speeds to keep)."""
+    critical = np.asarray(critical_speed, dtype=float).reshape(ORDER_COUNT, -1)
+    found = int(np.sum(np.isfinite(critical).any(axis=0)))
+    return ORDER_COUNT * min(CAMPBELL_MODES, found)
 
 
 def sweep_candidates(sweep_low, sweep_high, sweep_speed_count, critical_speed):
@@ -138,12 +142,12 @@ class Complex(NamedTuple):
 def station_excitation(response_order, response_cosine, response_sine, firing_angle, throw,
                        station_count):
     """(rows, stations) complex order-k torque on each station: Σ over the cylinders on
-    its throw of (a − ib)·e^(−ikφ_c) [N·m]; the pulley and the flywheel carry none.
-    ``firing_angle`` φ_c [rad]."""
+    its throw of (a − ib)·e^(−ik(φ_c − 360°)) [N·m]; the pulley and the flywheel carry
+    none.  ``firing_angle`` φ_c [rad]."""
     k = np.ravel(response_order).astype(float)[:, None]
     a = np.ravel(response_cosine).astype(float)[:, None]
     b = np.ravel(response_sine).astype(float)[:, None]
-    phi = np.asarray(firing_angle, dtype=float)
+    phi = np.asarray(firing_angle, dtype=float) - 2 * np.pi
     throws = np.asarray(throw, dtype=float)
     stations = int(round(station_count))
     cos_sum = np.zeros((k.shape[0], stations))
@@ -188,7 +192,7 @@ class Passes(NamedTuple):
 
 def holzer_passes(response_order, response_speed, station_inertia, section_stiffness,
                   torsion_loss_factor, cylinder_damping, damper_re, damper_im,
-                  excitation_re, excitation_im):
+                  response_cosine, response_sine, firing_angle, throw):
     """Both passes of the forced recurrence on every row, station by station as the
     sheet's columns run (:mod:`crankbook.calc.forced_torsion`): D_i = ω²J_i − iωc_i
     (+ the damper's term at the hub), T_i = T_(i−1) + D_i·θ_i (+ F_i),
@@ -202,7 +206,9 @@ def holzer_passes(response_order, response_speed, station_inertia, section_stiff
     ground = np.array([0.0] + [cylinder_damping] * (n - 2) + [0.0])
     d = omega ** 2 * inertia[None, :] - 1j * omega * ground[None, :]
     d[:, 0] += np.ravel(damper_re) + 1j * np.ravel(damper_im)
-    force = np.asarray(excitation_re, dtype=float) + 1j * np.asarray(excitation_im, dtype=float)
+    excitation = station_excitation(response_order, response_cosine, response_sine,
+                                    firing_angle, throw, n)
+    force = excitation.re + 1j * excitation.im
     out = []
     for start, f in ((1.0, np.zeros_like(force)), (0.0, force)):
         theta = np.zeros(d.shape, dtype=complex)
@@ -243,6 +249,20 @@ def response_section_torque(front_re, front_im, free_torque_re, free_torque_im,
     torque = theta * (np.asarray(free_torque_re) + 1j * np.asarray(free_torque_im)) \
         + np.asarray(forced_torque_re) + 1j * np.asarray(forced_torque_im)
     return np.abs(torque[:, :-1]) / np.sqrt(1 + torsion_loss_factor ** 2)
+
+
+def order_sum(values, sweep_speed):
+    """(speeds, sections) the sum of each column over the 24 orders of each speed: the
+    synthesis (blank where the speed is) [same unit]."""
+    v = np.asarray(values, dtype=float)
+    sums = np.nansum(v.reshape(v.shape[0] // ORDER_COUNT, ORDER_COUNT, -1), axis=1)
+    return np.where(np.isfinite(np.ravel(sweep_speed))[:, None], sums, np.nan)
+
+
+def modes_without_rows(sweep_speed_count):
+    """0: numpy keeps rows for every mode it finds (the workbook's cell counts the
+    modes found after it was built beyond the rows it kept)."""
+    return 0.0 * sweep_speed_count
 
 
 def block_running_sum(values, response_order):

@@ -1,0 +1,209 @@
+"""The forced torsional response over the speed sweep (issue 42), as the workbook lays it
+out: the phase convention rebuilds the engine's torque, every row is numpy's complex
+solve of the whole chain (the damper's ring a station of its own there), a resonance
+row agrees with the energy method, and the sweep keeps every critical speed."""
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import crankbook
+from crankbook.calc import forced_torsion as ft, torsional_sweep as ts
+
+ORDERS = np.arange(1, 25) / 2
+
+
+def _rows(r, key):
+    return np.asarray(r[key], dtype=float)
+
+
+@pytest.mark.parametrize("preset", ["thesis", "inline-4", "v6-60", "v8-crossplane"])
+def test_the_phase_convention_rebuilds_the_engine_torque(preset):
+    """Σ over the stations of F_k = Σ_c (a_k − i·b_k)·e^(−ik(φ_c − 360°)), summed over
+    every order the 1° grid holds, is the engine's torque at every crank angle."""
+    r = crankbook.compute(preset, step=1.0)
+    alpha = np.radians(_rows(r, "crank_angle"))[:-1]
+    torque = _rows(r, "torque")[:-1]                 # one cylinder's, over one cycle
+    n = alpha.size
+    orders = np.arange(1, n // 2) / 2                # 0.5 … below the Nyquist order
+    a = 2 / n * np.cos(np.outer(orders, alpha)) @ torque
+    b = 2 / n * np.sin(np.outer(orders, alpha)) @ torque
+    firing = np.radians(np.asarray(r.parameters["firing_angle"], dtype=float))
+    throw = np.asarray(r.parameters["throw"], dtype=float)
+    stations = int(r["station_count"])
+    force = ts.station_excitation(orders, a, b, firing, throw, stations)
+    engine = (force.re + 1j * force.im).sum(axis=1)
+    rebuilt = torque.mean() * firing.size + np.real(
+        engine[None, :] * np.exp(1j * np.outer(alpha, orders))).sum(axis=1)
+    want = _rows(r, "engine_torque")[:-1]
+    assert np.abs(rebuilt - want).max() <= 1e-6 * np.abs(want).max()
+
+
+def _direct(r, row, ring=None):
+    """The chain solved whole with numpy at one (speed, order) row: (front amplitude
+    [deg], elastic section torques [N·m]); ``ring`` (J_d, k_d, c_d) puts the damper's
+    ring in front of the hub as a station of its own."""
+    k_order = _rows(r, "response_order")[row]
+    omega = k_order * _rows(r, "response_speed")[row] * np.pi / 30
+    inertia = _rows(r, "station_inertia")
+    stiffness = _rows(r, "section_stiffness")
+    n = inertia.size
+    firing = np.radians(np.asarray(r.parameters["firing_angle"], dtype=float)) - 2 * np.pi
+    throw = np.asarray(r.parameters["throw"], dtype=int)
+    harmonic = _rows(r, "response_cosine")[row] - 1j * _rows(r, "response_sine")[row]
+    force = np.zeros(n, dtype=complex)
+    for phi, t in zip(firing, throw):
+        force[t] += harmonic * np.exp(-1j * k_order * phi)
+    eta = float(r["torsion_loss_factor"])
+    ground = np.array([0.0] + [float(r.parameters["cylinder_damping"])] * (n - 2) + [0.0])
+    loss = np.full(n - 1, eta)
+    coupling = np.zeros(n - 1)
+    if ring is not None:
+        j_d, k_d, c_d = ring
+        inertia = np.concatenate([[j_d], inertia])
+        stiffness = np.concatenate([[k_d], stiffness])
+        loss = np.concatenate([[0.0], loss])
+        coupling = np.concatenate([[c_d], coupling])
+        ground = np.concatenate([[0.0], ground])
+        force = np.concatenate([[0.0], force])
+    theta = ft.direct_response(omega, inertia, stiffness, force, loss_factor=loss,
+                               section_damping=coupling, ground_damping=ground)
+    if ring is not None:
+        theta = theta[1:]
+        stiffness = stiffness[1:]
+    return np.degrees(abs(theta[0])), np.abs(stiffness * (theta[:-1] - theta[1:]))
+
+
+@pytest.mark.parametrize("preset,damper", [
+    ("inline-6", {}),
+    ("inline-6", {"damper_kind": 1, "damper_inertia": 0.02, "damper_damping": 20.0}),
+    ("v8-crossplane", {"damper_kind": 2, "damper_inertia": 0.01, "damper_stiffness": 3e4,
+                       "damper_damping": 8.0}),
+    ("thesis", {"damper_kind": 2, "damper_inertia": 0.002, "damper_stiffness": 5e4,
+                "damper_damping": 2.0}),
+])
+def test_every_row_is_the_complex_solve_of_the_whole_chain(preset, damper):
+    """The two passes, the damper condensed onto the hub and the elastic torque
+    T/(1 + iη) against numpy's solve with the ring as a station, a viscous damper to
+    ground at every throw and a shaft loss factor, on rows across the sweep."""
+    values = dict(damper, cylinder_damping=3.0, shaft_loss_factor=0.01)
+    r = crankbook.compute(preset, step=5.0, **values)
+    order = _rows(r, "response_order")
+    rows = np.flatnonzero(np.isfinite(order))
+    ring = None
+    if damper:
+        ring = (damper["damper_inertia"],
+                damper.get("damper_stiffness", 0.0) if damper["damper_kind"] == 2 else 0.0,
+                damper["damper_damping"])
+    front = _rows(r, "response_front_amplitude")
+    section = _rows(r, "response_section_torque")
+    for row in rows[:: max(1, rows.size // 60)]:
+        want_front, want_section = _direct(r, row, ring)
+        assert front[row] == pytest.approx(want_front, rel=1e-7, abs=1e-12)
+        assert np.allclose(section[row], want_section, rtol=1e-7,
+                           atol=1e-9 * max(want_section.max(), 1e-9))
+
+
+@pytest.mark.parametrize("preset", ["thesis", "inline-6"])
+def test_a_resonance_row_agrees_with_the_energy_method(preset):
+    """At each critical speed of mode 1 inside the sweep, the forced amplitude of the
+    front station for that order (ζ = 0.02 as a loss factor 2ζ on every section)
+    agrees with the critical-speed table's energy-balance amplitude within 1 %."""
+    r = crankbook.compute(preset, step=5.0)
+    critical = _rows(r, "critical_speed")[:, 0]
+    energy = _rows(r, "resonant_amplitude")[:, 0]
+    speed = _rows(r, "response_speed")
+    order = _rows(r, "response_order")
+    forced = _rows(r, "response_front_amplitude")
+    low, high = float(r["sweep_low"]), float(r["sweep_high"])
+    checked = 0
+    for k, n_c, theta in zip(ORDERS, critical, energy):
+        if not low < n_c < high or theta < 1e-4 * np.nanmax(energy):
+            continue
+        row = np.flatnonzero((order == k) & np.isclose(speed, n_c, rtol=1e-12))
+        assert row.size, (k, n_c)
+        assert forced[row[0]] == pytest.approx(theta, rel=0.01), (k, n_c)
+        checked += 1
+    assert checked >= 3
+
+
+def test_the_sweep_holds_every_critical_speed_in_range():
+    r = crankbook.compute("inline-6", step=5.0, sweep_speed_count=57)
+    speeds = _rows(r, "sweep_speed")
+    found = speeds[np.isfinite(speeds)]
+    assert np.all(np.diff(found) >= 0) and np.all(np.isnan(speeds[found.size:]))
+    critical = _rows(r, "critical_speed")[:, :3]
+    inside = critical[(critical > found[0]) & (critical < found[-1])]
+    assert inside.size and np.all(np.isin(inside, found))
+    modes = int(np.sum(np.isfinite(_rows(r, "natural_frequency"))))
+    assert speeds.size == 57 + 24 * min(3, modes)
+    assert np.allclose(np.setdiff1d(found, inside), np.linspace(found[0], found[-1], 57))
+
+
+def test_synthesis_stress_and_the_m68_limit():
+    """The synthesis is the sum of the orders' amplitudes; τ = 16·T·d/(π(d⁴ − d_b⁴));
+    the verdict and the barred range follow from τ_C at each speed."""
+    r = crankbook.compute("inline-6", step=5.0, shaft_tensile_strength=400.0, m68_ck=0.3)
+    section = _rows(r, "response_section_torque")
+    speeds = _rows(r, "sweep_speed")
+    s = speeds.size
+    synthesis = np.nansum(section.reshape(s, 24, -1), axis=1)
+    live = np.isfinite(speeds)
+    assert np.allclose(_rows(r, "section_torque")[live], synthesis[live])
+    d, bore = float(r.parameters["main_journal_diameter"]), float(r.parameters["main_journal_bore"])
+    stress = _rows(r, "section_stress")
+    assert np.allclose(stress[live], 16 * synthesis[live] * 1e3 * d / (np.pi * (d ** 4 - bore ** 4)))
+    limit = _rows(r, "sweep_stress_limit")
+    lam = np.minimum(speeds / float(r["rated_speed_used"]), 1.05)
+    base = (400 + 160) / 18 * 0.3 * (0.35 + 0.93 * d ** -0.2)
+    assert np.allclose(limit[live], np.where(lam < 0.9, base * (3 - 2 * lam ** 2), base * 1.38)[live])
+    fails = live & np.any(stress > limit[:, None], axis=1)
+    assert r["torsion_ok"] == (0.0 if fails.any() else 1.0)
+    assert fails.any(), "the weak shaft of this test should fail somewhere"
+    assert r["barred_speed_min"] == pytest.approx(speeds[fails].min())
+    assert r["barred_speed_max"] == pytest.approx(speeds[fails].max())
+    assert np.allclose(_rows(r, "alternating_torque_journal"), np.nanmax(synthesis[live], axis=0))
+
+
+def test_den_hartogs_viscous_damper_lowers_the_peak():
+    """An untuned viscous damper of Den Hartog's optimum damping on the inline-6 (its
+    own damping nearly nil, as Den Hartog's main system) lowers the largest front
+    amplitude of the major order at mode 1, and more than one with a third or three
+    times that damping does."""
+    light = dict(step=5.0, torsion_damping_ratio=0.001, sweep_speed_count=201)
+    base = crankbook.compute("inline-6", **light)
+    j_d = 0.5 * float(_rows(base, "modal_inertia")[0])
+
+    def peak(c_d):
+        r = crankbook.compute("inline-6", damper_kind=1, damper_inertia=j_d,
+                              damper_damping=c_d, **light)
+        order = _rows(r, "response_order")
+        return np.nanmax(np.where(order == 6.0, _rows(r, "response_front_amplitude"), np.nan)), r
+
+    best, r = peak(1.0)
+    c_opt = float(r["damper_optimum_damping"])
+    best, _ = peak(c_opt)
+    undamped = np.nanmax(np.where(_rows(base, "response_order") == 6.0,
+                                  _rows(base, "response_front_amplitude"), np.nan))
+    assert best < 0.8 * undamped
+    assert best < peak(c_opt / 3)[0] and best < peak(3 * c_opt)[0]
+
+
+@pytest.mark.parametrize("values,words", [
+    (["cylinder_damping=-1"], "cylinder_damping"),
+    (["sweep_speed_min=5000", "sweep_speed_max=3000"], "sweep's lowest speed"),
+    (["damper_kind=1", "damper_inertia=0"], "ring has no inertia"),
+    (["damper_kind=2", "damper_stiffness=0"], "tuned damper"),
+    (["sweep_speed_count=20"], "sweep_speed_count"),
+])
+def test_bad_forced_torsion_inputs_are_one_line(tmp_path, values, words):
+    out = tmp_path / "x.xlsx"
+    args = [sys.executable, "-m", "crankbook", "build", "-o", str(out)]
+    for v in values:
+        args += ["--set", v]
+    done = subprocess.run(args, capture_output=True, text=True)
+    assert done.returncode == 2, done.stderr
+    assert words in done.stderr and "Traceback" not in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert not out.exists()
