@@ -207,3 +207,38 @@ def test_bad_forced_torsion_inputs_are_one_line(tmp_path, values, words):
     assert words in done.stderr and "Traceback" not in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1, done.stderr
     assert not out.exists()
+
+
+def test_export_torsion_writes_the_forced_response(tmp_path):
+    """response.csv: per speed each order's and the synthesis's section torque and
+    stress, read from the workbook; the synthesis is the sum of its orders, the
+    largest synthesis of each section is q_alternating_torque_journal."""
+    import csv
+    from tests.conftest import run_cli
+    path = crankbook.compute("inline-4", step=6.0).to_excel(tmp_path / "i4.xlsx")
+    done = run_cli("export", "torsion", path, "-o", tmp_path / "tv")
+    assert done.returncode == 0, done.stderr
+    back = crankbook.read(path)
+    with open(tmp_path / "tv" / "response.csv", newline="", encoding="utf-8-sig") as f:
+        rows = list(csv.DictReader(f))
+    sections = np.asarray(back["section_torque"]).shape[1]
+    speeds = np.asarray(back["sweep_speed"], dtype=float)
+    live = speeds[np.isfinite(speeds)]
+    assert len(rows) == live.size * 25 * sections
+    d = float(back.parameters["main_journal_diameter"])
+    bore = float(back.parameters["main_journal_bore"])
+    for r in rows[:: 97]:
+        assert float(r["stress [MPa]"]) == pytest.approx(
+            16e3 * float(r["torque amplitude [N·m]"]) * d / (np.pi * (d ** 4 - bore ** 4)))
+    n0, j = live[3], 2
+    orders = [float(r["torque amplitude [N·m]"]) for r in rows
+              if float(r["speed [r/min]"]) == n0 and r["section"] == str(j)
+              and r["order"] != "synthesis"]
+    synthesis = [float(r["torque amplitude [N·m]"]) for r in rows
+                 if float(r["speed [r/min]"]) == n0 and r["section"] == str(j)
+                 and r["order"] == "synthesis"]
+    assert len(orders) == 24 and synthesis == [pytest.approx(sum(orders))]
+    largest = [max(float(r["torque amplitude [N·m]"]) for r in rows
+                   if r["order"] == "synthesis" and r["section"] == str(s))
+               for s in range(1, sections + 1)]
+    assert largest == pytest.approx(list(back["alternating_torque_journal"]))

@@ -161,18 +161,19 @@ def _build_parser():
 
     export = commands.add_parser(
         "export", help="write a workbook's data for another tool (torsion: stations.csv, "
-                       "harmonics.csv; trace: a pressure trace --pressure reads)",
+                       "harmonics.csv, response.csv; trace: a pressure trace --pressure reads)",
         description="export torsion WORKBOOK -o DIR: the torsional system (station, J, k to "
                     "the next) and each cylinder's torque harmonics a_k, b_k in the common "
                     "crank angle, total, gas and inertia parts, at the workbook's speed, "
-                    "read from an engine workbook's names as stored. export trace [WORKBOOK] "
+                    "and the forced response over its speed sweep (speed, order, section, "
+                    "torque amplitude, stress), read from an engine workbook's names as stored. export trace [WORKBOOK] "
                     "-o FILE.csv: its cylinder pressure (without WORKBOOK: the thesis "
                     "engine's) as a trace file for build --pressure.")
     export.add_argument("what", choices=("torsion", "trace"), help="what to export")
     export.add_argument("workbook", metavar="WORKBOOK", nargs="?",
                         help="an engine workbook crankbook wrote (trace: optional)")
     export.add_argument("-o", "--output", required=True, metavar="DIR|FILE.csv",
-                        help="torsion: the folder for stations.csv and harmonics.csv; "
+                        help="torsion: the folder for stations.csv, harmonics.csv and response.csv; "
                              "trace: the .csv file")
 
     check = commands.add_parser(

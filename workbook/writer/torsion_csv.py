@@ -12,6 +12,10 @@ format ``--pressure`` reads.
   M(α − φ_i + 360°)); then the same split into the gas part and the inertia part, and
   the speed they hold at (the workbook's design speed p_speed): at another speed n
   the gas part stays (the same pressure) and the inertia part scales with (n/p_speed)².
+* ``response.csv`` — the forced, damped response over the workbook's speed sweep:
+  speed [r/min], order k (or "synthesis", the sum of the orders' amplitudes), shaft
+  section (1 = behind the pulley), elastic vibratory torque amplitude [N·m] and its
+  shear stress 16·T·d/(π(d⁴ − d_b⁴)) in the main journal [MPa].
 
 The numbers are the workbook's (read through its names, as stored), in the units
 above; the files are UTF-8 with a byte-order mark (Excel then reads "·" and "²"
@@ -74,25 +78,59 @@ def rows(results):
     return stations, harmonics
 
 
+def response_rows(results):
+    """The rows of response.csv (module docstring) of a Results."""
+    needed = ("sweep_speed", "response_order", "response_speed", "response_section_torque",
+              "section_torque", "section_stress")
+    missing = [k for k in needed if k not in results.results]
+    if missing:
+        raise BuildOptionError(f"export torsion: the workbook has no {missing[0]} (an engine "
+                               f"workbook built by this crankbook has)")
+    d = float(results.parameters["main_journal_diameter"])
+    bore = float(results.parameters["main_journal_bore"])
+    factor = 16 * 1000 * d / (math.pi * (d ** 4 - bore ** 4))    # N·m -> MPa, d in mm
+    order = np.ravel(np.asarray(results["response_order"], dtype=float))
+    speed = np.ravel(np.asarray(results["response_speed"], dtype=float))
+    torque = np.asarray(results["response_section_torque"], dtype=float).reshape(order.size, -1)
+    out = [["speed [r/min]", "order", "section", "torque amplitude [N·m]", "stress [MPa]"]]
+    sweep = np.ravel(np.asarray(results["sweep_speed"], dtype=float))
+    synthesis = np.asarray(results["section_torque"], dtype=float).reshape(sweep.size, -1)
+    stress = np.asarray(results["section_stress"], dtype=float).reshape(sweep.size, -1)
+    for s, n in enumerate(sweep):
+        if not math.isfinite(n):
+            continue
+        for row in range(24 * s, 24 * s + 24):
+            if math.isfinite(order[row]) and math.isfinite(speed[row]):
+                for j, t in enumerate(torque[row], start=1):
+                    out.append([float(speed[row]), float(order[row]), j, float(t),
+                                float(t * factor)])
+        for j, (t, tau) in enumerate(zip(synthesis[s], stress[s]), start=1):
+            out.append([float(n), "synthesis", j, float(t), float(tau)])
+    return out
+
+
 def _folder(directory):
     """-o of `export torsion` is a folder: a name like x.csv is a slip, refused."""
     if str(directory).lower().endswith(FILE_SUFFIXES):
-        raise BuildOptionError(f"-o {directory}: export torsion writes two files "
-                               f"(stations.csv, harmonics.csv) into a folder; give a folder "
+        raise BuildOptionError(f"-o {directory}: export torsion writes three files "
+                               f"(stations.csv, harmonics.csv, response.csv) into a folder; give a folder "
                                f"name, not a file name")
     return directory
 
 
 def write(results, directory, source=None):
-    """Write stations.csv and harmonics.csv into ``directory`` (replaced whole, if an
+    """Write stations.csv, harmonics.csv and response.csv into ``directory`` (replaced whole, if an
     earlier export wrote it; ``source``, the workbook read, is never inside it)."""
     stations, harmonics = rows(results)
+    response = response_rows(results)
     check_output_folder(_folder(directory), "export torsion", [(source, False)])
     with staged_directory(directory, replace=True, command="export torsion") as staging:
         (staging / "stations.csv").write_text(csv_text(stations), encoding=ENCODING,
                                               newline="")
         (staging / "harmonics.csv").write_text(csv_text(harmonics), encoding=ENCODING,
                                                newline="")
+        (staging / "response.csv").write_text(csv_text(response), encoding=ENCODING,
+                                              newline="")
     return directory
 
 
