@@ -123,6 +123,11 @@ def response_sweep_rows(response_order):
     return np.arange(np.size(response_order)) // ORDER_COUNT + 1.0
 
 
+def response_omega(response_order, response_speed):
+    """ω = k·Ω of each row [rad/s]."""
+    return np.ravel(response_order).astype(float) * np.ravel(response_speed).astype(float)
+
+
 def response_harmonic(response_order, response_speed, speed, harmonic, inertia_harmonic):
     """One cylinder's order-k harmonic (cosine a or sine b) at the row's speed: the
     design speed's value with its inertia part scaled by (n/n_design)² [N·m]."""
