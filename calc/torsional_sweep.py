@@ -106,16 +106,22 @@ def sweep_stale(sweep_speed_count):
 
 # ---------------------------------------------------------------- rows: speed × order
 def response_orders(sweep_speed):
-    """The order k of each (speed, order) row, NaN where the speed is blank [-]."""
-    speeds = np.ravel(sweep_speed).astype(float)
-    orders = np.tile(np.asarray(ORDERS), speeds.size)
-    return np.where(np.isfinite(np.repeat(speeds, ORDER_COUNT)), orders, np.nan)
+    """The order k of each (speed, order) row: 24 rows for each speed the sweep holds
+    (the blank ones, last in the sorted sweep, get none) [-]."""
+    held = int(np.sum(np.isfinite(np.ravel(sweep_speed).astype(float))))
+    return np.tile(np.asarray(ORDERS), held)
 
 
 def response_speeds(response_order, sweep_speed):
-    """The speed of each row [rad/s] (NaN on a blank row)."""
-    speeds = np.repeat(np.ravel(sweep_speed).astype(float), ORDER_COUNT)
-    return np.where(np.isfinite(np.ravel(response_order)), speeds, np.nan)
+    """The speed of each row [rad/s]."""
+    rows = np.size(response_order) // ORDER_COUNT
+    return np.repeat(np.ravel(sweep_speed).astype(float)[:rows], ORDER_COUNT)
+
+
+def speeds_without_rows(sweep_speed_count):
+    """0: numpy gives every speed of the sweep its rows (the workbook's cell counts the
+    speeds a later edit brought into the sweep beyond the rows laid out)."""
+    return 0.0 * sweep_speed_count
 
 
 def response_sweep_rows(response_order):
@@ -261,7 +267,7 @@ def order_sum(values, sweep_speed):
     synthesis (blank where the speed is) [same unit]."""
     v = np.asarray(values, dtype=float)
     sums = np.nansum(v.reshape(v.shape[0] // ORDER_COUNT, ORDER_COUNT, -1), axis=1)
-    return np.where(np.isfinite(np.ravel(sweep_speed))[:, None], sums, np.nan)
+    return _padded(sums, sweep_speed)
 
 
 def modes_without_rows(sweep_speed_count):
@@ -280,9 +286,16 @@ def block_running_sum(values, response_order):
 
 
 # ---------------------------------------------------------------- per speed
-def by_speed_and_order(values):
+def _padded(block, sweep_speed):
+    """(speeds, …): ``block``'s rows, then blank rows for the sweep's blank speeds."""
+    speeds = np.size(sweep_speed)
+    pad = np.full((speeds - block.shape[0],) + block.shape[1:], np.nan)
+    return np.concatenate([block, pad])
+
+
+def by_speed_and_order(values, sweep_speed):
     """A (rows,) column as (speeds, 24) [same unit]."""
-    return np.asarray(values, dtype=float).reshape(-1, ORDER_COUNT)
+    return _padded(np.asarray(values, dtype=float).reshape(-1, ORDER_COUNT), sweep_speed)
 
 
 def block_ends(running):
@@ -338,11 +351,11 @@ def failed_speed(sweep_speed, section_pass):
     return np.where(fails, np.ravel(sweep_speed), np.nan)
 
 
-def worst_section_order_torque(response_section_torque, worst_section):
+def worst_section_order_torque(response_section_torque, worst_section, sweep_speed):
     """(speeds, 24) each order's elastic torque at the worst section [N·m]."""
     t = np.asarray(response_section_torque, dtype=float)
     column = t[:, int(round(worst_section)) - 1]
-    return column.reshape(-1, ORDER_COUNT)
+    return _padded(column.reshape(-1, ORDER_COUNT), sweep_speed)
 
 
 # ---------------------------------------------------------------- per section

@@ -147,9 +147,11 @@ def test_synthesis_stress_and_the_m68_limit():
     r = crankbook.compute("inline-6", step=5.0, shaft_tensile_strength=400.0, m68_ck=0.3)
     section = _rows(r, "response_section_torque")
     speeds = _rows(r, "sweep_speed")
-    s = speeds.size
-    synthesis = np.nansum(section.reshape(s, 24, -1), axis=1)
     live = np.isfinite(speeds)
+    # 24 response rows for each speed the sweep holds, none for its blank rows
+    assert section.shape[0] == 24 * live.sum() and live[:live.sum()].all()
+    synthesis = np.full((speeds.size, section.shape[1]), np.nan)
+    synthesis[live] = section.reshape(-1, 24, section.shape[1]).sum(axis=1)
     assert np.allclose(_rows(r, "section_torque")[live], synthesis[live])
     d, bore = float(r.parameters["main_journal_diameter"]), float(r.parameters["main_journal_bore"])
     stress = _rows(r, "section_stress")
