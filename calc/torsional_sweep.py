@@ -354,34 +354,49 @@ def failed_speed(sweep_speed, section_pass):
 def worst_section_order_torque(response_section_torque, worst_section, sweep_speed):
     """(speeds, 24) each order's elastic torque at the worst section [N·m]."""
     t = np.asarray(response_section_torque, dtype=float)
+    if not np.isfinite(worst_section):
+        return _padded(np.full((t.shape[0] // ORDER_COUNT, ORDER_COUNT), np.nan), sweep_speed)
     column = t[:, int(round(worst_section)) - 1]
     return _padded(column.reshape(-1, ORDER_COUNT), sweep_speed)
 
 
 # ---------------------------------------------------------------- per section
+def _argmax_columns(v):
+    """Each column's first largest row, or −1 where a column holds no number."""
+    filled = np.where(np.isfinite(v), v, -np.inf)
+    index = np.argmax(filled, axis=0)
+    return np.where(np.isfinite(v).any(axis=0), index, -1)
+
+
 def column_max(values):
-    """The largest value of each column [same unit]."""
-    return np.nanmax(np.asarray(values, dtype=float), axis=0)
+    """The largest value of each column, NaN where it holds none [same unit]."""
+    v = np.asarray(values, dtype=float)
+    index = _argmax_columns(v)
+    return np.array([v[i, c] if i >= 0 else np.nan for c, i in enumerate(index)])
 
 
 def speed_of_column_max(values, sweep_speed):
     """The sweep speed of each column's largest value (the first, on a tie) [rad/s]."""
-    v = np.asarray(values, dtype=float)
-    return np.ravel(sweep_speed)[np.nanargmax(v, axis=0)]
+    index = _argmax_columns(np.asarray(values, dtype=float))
+    return np.where(index >= 0, np.ravel(sweep_speed)[np.maximum(index, 0)], np.nan)
 
 
 def nanmax_all(values):
     """The largest value of a block [same unit]."""
-    return float(np.nanmax(np.asarray(values, dtype=float)))
+    v = np.asarray(values, dtype=float)
+    return float(np.nanmax(v)) if np.isfinite(v).any() else np.nan
 
 
 def first_max_item(values):
     """The 1-based item of the largest value (the first, on a tie)."""
-    return float(np.nanargmax(np.asarray(values, dtype=float)) + 1)
+    v = np.asarray(values, dtype=float)
+    return float(np.nanargmax(v) + 1) if np.isfinite(v).any() else np.nan
 
 
 def item_value(values, item):
     """Item ``item`` (1-based) of a per-item array [same unit]."""
+    if not np.isfinite(item):
+        return np.nan
     return float(np.asarray(values, dtype=float)[int(round(item)) - 1])
 
 
@@ -438,5 +453,5 @@ def candidate_is_critical(sweep_candidate, critical_speed):
 
 def limit_at_column_max(values, limit):
     """Each column's τ_C at the speed of its largest value [Pa]."""
-    v = np.asarray(values, dtype=float)
-    return np.ravel(limit)[np.nanargmax(v, axis=0)]
+    index = _argmax_columns(np.asarray(values, dtype=float))
+    return np.where(index >= 0, np.ravel(limit)[np.maximum(index, 0)], np.nan)

@@ -30,7 +30,8 @@ def test_compute_gives_frames_in_sheet_units(thesis):
     assert thesis.scalars["crank_rod_ratio"] == pytest.approx(1 / 3)
     assert thesis.scalars["reciprocating_mass"] == pytest.approx(0.515, abs=5e-4)
     assert thesis.parameters["bore"] == 88 and thesis.grids == [
-        "crank_angle", "holzer_frequency", "torsion_order", "torsion_station", "campbell_speed"]
+        "crank_angle", "holzer_frequency", "torsion_order", "torsion_station", "campbell_speed",
+        "sweep_candidate", "sweep_speed", "response_order"]
     course = crankbook.compute("course-design")
     assert len(course.series("pos_crank_angle")) == 30
     assert "pos_crank_angle" in course.grids
