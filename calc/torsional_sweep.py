@@ -77,16 +77,19 @@ def reserved_rows(critical_speed):
     return ORDER_COUNT * min(CAMPBELL_MODES, found)
 
 
-def sweep_candidates(sweep_low, sweep_high, sweep_speed_count, critical_speed):
+def sweep_candidates(sweep_low, sweep_high, sweep_speed_count, critical_speed, rows=None):
     """The unsorted sweep: the reserved critical-speed rows (mode-major, order within),
     a critical speed strictly inside (n_low, n_high) or NaN, then the even speeds
-    n_low + j·(n_high − n_low)/(count − 1) [rad/s]."""
+    n_low + j·(n_high − n_low)/(count − 1) [rad/s].  ``rows``: the rows a workbook was
+    built with (its reserved rows are those beyond the count); None: 24 per mode found."""
     critical = np.asarray(critical_speed, dtype=float).reshape(ORDER_COUNT, -1)
-    modes = reserved_rows(critical) // ORDER_COUNT
+    count = int(round(sweep_speed_count))
+    reserved = reserved_rows(critical) if rows is None else max(0, int(rows) - count)
+    modes = min(reserved // ORDER_COUNT, critical.shape[1])
     kept = critical[:, :modes].T.ravel()                 # mode 1's orders, then mode 2's …
     with np.errstate(invalid="ignore"):
         kept = np.where((kept > sweep_low) & (kept < sweep_high), kept, np.nan)
-    count = int(round(sweep_speed_count))
+    kept = np.concatenate([kept, np.full(reserved - kept.size, np.nan)])
     even = sweep_low + np.arange(count) * (sweep_high - sweep_low) / (count - 1)
     return np.concatenate([kept, even])
 
@@ -98,30 +101,39 @@ def sweep_speeds(sweep_candidate):
     return np.concatenate([found, np.full(c.size - found.size, np.nan)])
 
 
-def sweep_stale(sweep_speed_count):
-    """0: numpy lays the sweep out for the count it is given (the workbook's rule
-    fires when the count is typed after the workbook was built)."""
-    return 0.0 * sweep_speed_count
+def sweep_stale(sweep_speed_count, sweep_candidate):
+    """1 when the count was typed after the sweep's rows were laid out: more speeds
+    than rows, or rows beyond the count that are not whole blocks of 24."""
+    rows = np.size(sweep_candidate)
+    count = int(round(sweep_speed_count))
+    return float(count > rows or (rows - count) % ORDER_COUNT != 0)
 
 
 # ---------------------------------------------------------------- rows: speed × order
-def response_orders(sweep_speed):
+def response_orders(sweep_speed, rows=None):
     """The order k of each (speed, order) row: 24 rows for each speed the sweep holds
-    (the blank ones, last in the sorted sweep, get none) [-]."""
-    held = int(np.sum(np.isfinite(np.ravel(sweep_speed).astype(float))))
-    return np.tile(np.asarray(ORDERS), held)
+    (the blank ones, last in the sorted sweep, get none); ``rows``, of a workbook read
+    back: the rows it was built with, blank for a speed that has none [-]."""
+    speeds = np.ravel(sweep_speed).astype(float)
+    held = int(np.sum(np.isfinite(speeds))) if rows is None else int(rows) // ORDER_COUNT
+    orders = np.tile(np.asarray(ORDERS), held)
+    return np.where(np.repeat(np.isfinite(np.concatenate(
+        [speeds, np.full(max(0, held - speeds.size), np.nan)])[:held]), ORDER_COUNT), orders, np.nan)
 
 
 def response_speeds(response_order, sweep_speed):
     """The speed of each row [rad/s]."""
-    rows = np.size(response_order) // ORDER_COUNT
-    return np.repeat(np.ravel(sweep_speed).astype(float)[:rows], ORDER_COUNT)
+    order = np.ravel(response_order).astype(float)
+    rows = order.size // ORDER_COUNT
+    speeds = np.concatenate([np.ravel(sweep_speed).astype(float), np.full(rows, np.nan)])
+    return np.where(np.isfinite(order), np.repeat(speeds[:rows], ORDER_COUNT), np.nan)
 
 
-def speeds_without_rows(sweep_speed_count):
-    """0: numpy gives every speed of the sweep its rows (the workbook's cell counts the
-    speeds a later edit brought into the sweep beyond the rows laid out)."""
-    return 0.0 * sweep_speed_count
+def speeds_without_rows(sweep_speed, response_order):
+    """The sweep's speeds beyond the forced-response rows laid out (a critical speed an
+    edit brought into the sweep after the workbook was built)."""
+    held = int(np.sum(np.isfinite(np.ravel(sweep_speed).astype(float))))
+    return float(max(0, held - np.size(response_order) // ORDER_COUNT))
 
 
 def response_sweep_rows(response_order):
@@ -266,14 +278,16 @@ def order_sum(values, sweep_speed):
     """(speeds, sections) the sum of each column over the 24 orders of each speed: the
     synthesis (blank where the speed is) [same unit]."""
     v = np.asarray(values, dtype=float)
-    sums = np.nansum(v.reshape(v.shape[0] // ORDER_COUNT, ORDER_COUNT, -1), axis=1)
+    blocks = v.reshape(v.shape[0] // ORDER_COUNT, ORDER_COUNT, -1)
+    sums = np.where(np.isfinite(blocks).any(axis=1), np.nansum(blocks, axis=1), np.nan)
     return _padded(sums, sweep_speed)
 
 
-def modes_without_rows(sweep_speed_count):
-    """0: numpy keeps rows for every mode it finds (the workbook's cell counts the
-    modes found after it was built beyond the rows it kept)."""
-    return 0.0 * sweep_speed_count
+def modes_without_rows(natural_frequency, sweep_candidate, sweep_speed_count):
+    """Modes found (of the lowest three) beyond the critical-speed rows laid out."""
+    found = min(CAMPBELL_MODES, int(np.sum(np.isfinite(np.asarray(natural_frequency, float)))))
+    reserved = (np.size(sweep_candidate) - int(round(sweep_speed_count))) / ORDER_COUNT
+    return float(max(0.0, found - reserved))
 
 
 def block_running_sum(values, response_order):
@@ -306,8 +320,10 @@ def block_ends(running):
 
 
 def front_amplitude_synthesis(front_amplitude):
-    """Σ over the orders of the front amplitudes at each speed [rad]."""
-    return np.sum(np.asarray(front_amplitude, dtype=float), axis=1)
+    """Σ over the orders of the front amplitudes at each speed, blank where it has
+    none [rad]."""
+    a = np.asarray(front_amplitude, dtype=float)
+    return np.where(np.isfinite(a).any(axis=1), np.nansum(a, axis=1), np.nan)
 
 
 def section_stress(section_torque, main_journal_diameter, main_journal_bore):
@@ -444,10 +460,11 @@ def loss_factor(torsion_damping_ratio, shaft_loss_factor):
     return 2 * torsion_damping_ratio + shaft_loss_factor
 
 
-def candidate_is_critical(sweep_candidate, critical_speed):
-    """1 on a candidate row that holds a critical speed, 0 on an even speed, NaN blank."""
+def candidate_is_critical(sweep_candidate, sweep_speed_count):
+    """1 on a candidate row that holds a critical speed, 0 on an even speed, NaN blank
+    (the rows before the even speeds are the critical speeds')."""
     c = np.ravel(sweep_candidate).astype(float)
-    flags = (np.arange(c.size) < reserved_rows(critical_speed)).astype(float)
+    flags = (np.arange(c.size) < c.size - int(round(sweep_speed_count))).astype(float)
     return np.where(np.isfinite(c), flags, np.nan)
 
 

@@ -205,7 +205,7 @@ def recalculate_all(tmp, paths, workbooks=WORKBOOKS):
     out = {}
     for name, path in paths.items():
         book, spec, template, ranges, values, tables, grids, sizes, rows = load_named(path)
-        expected, floors = expected_values(spec, values, tables, grids)
+        expected, floors = expected_values(spec, values, tables, grids, layout=rows)
         out[name] = Checked(path, spec, expected, floors, named(path),
                             valid=workbooks[name].get("valid", True))
     with ThreadPoolExecutor(max_workers=2) as pool:      # the engines on both cores

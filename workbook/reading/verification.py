@@ -15,14 +15,15 @@ from crankbook.support.progress import steps, waiting
 from crankbook.support.workspace import temporary_directory
 
 
-def expected_values(spec, values, tables, grids):
+def expected_values(spec, values, tables, grids, layout=None):
     """(numpy results, rounding floors) for the inputs, or (None, None) when the inputs
-    break a rule (then the sheet must be blank, and q_inputs_valid 0)."""
+    break a rule (then the sheet must be blank, and q_inputs_valid 0); ``layout``: the
+    workbook's grid rows (its computed grids keep the rows they were built with)."""
     try:
-        params.validate(spec, dict(values), tables=tables, grids=grids)
+        params.validate(spec, dict(values), tables=tables, grids=grids, layout=layout)
     except CrankbookError:
         return None, None
-    expected = evaluate(spec, values, tables, grids)
+    expected = evaluate(spec, values, tables, grids, layout=layout)
     return expected, noise_floors(spec, values, tables, grids)
 
 
@@ -59,7 +60,7 @@ def _compared(path, named, cached, converted, engine):
     recalculated = read_results(book_after, spec, ranges_after, path, sizes, grid_rows)
     status = _single(book_after, ranges_after, "q_input_status")
     valid = _single(book_after, ranges_after, "q_inputs_valid")
-    expected, floors = expected_values(spec, values, tables, grids)
+    expected, floors = expected_values(spec, values, tables, grids, layout=grid_rows)
     rows = []
     if expected is not None:
         now = {c.name: c for c in compare(spec, expected, recalculated, floors)}

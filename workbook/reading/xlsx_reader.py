@@ -134,8 +134,9 @@ class XlsxBook:
             size = self.path.stat().st_size
         except OSError as error:
             raise Unreadable(f"cannot be opened ({error.strerror})") from None
-        if size > MAX_FILE:
-            raise Unreadable(f"file is {size / 1e6:.0f} MB, more than {MAX_FILE // 2**20} MB")
+        if size > MAX_FILE * self.scale:
+            raise Unreadable(f"file is {size / 1e6:.0f} MB, more than "
+                             f"{MAX_FILE * self.scale // 2**20} MB")
         with open(self.path, "rb") as handle:
             head = handle.read(8)
         if head.startswith(OLE_MAGIC):

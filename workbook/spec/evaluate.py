@@ -117,8 +117,12 @@ def named_part(result, q):
 class Evaluator:
     """Lazily computes quantities in SI units, each once, from the inputs."""
 
-    def __init__(self, spec, values, tables=None, grids=None, overrides=None):
+    def __init__(self, spec, values, tables=None, grids=None, overrides=None, layout=None):
         self.spec = spec
+        # computed grid -> its rows as a workbook read back laid them out when it was
+        # built (None when building): a grid's calc function taking ``rows`` gets them,
+        # and any other computed grid is cut or padded to them, as the sheet is
+        self.layout = layout or {}
         self.values = values
         self.tables = tables or {}
         self.overrides = overrides or {}
@@ -150,8 +154,11 @@ class Evaluator:
         return value
 
     def arguments(self, q):
-        return {name: self.argument(source, q) for name, source in q.calc_arguments().items()
-                if self.is_known(source)}
+        kwargs = {name: self.argument(source, q) for name, source in q.calc_arguments().items()
+                  if self.is_known(source)}
+        if q.is_grid and "rows" in q.takes_rows:
+            kwargs["rows"] = self.layout.get(q.key)
+        return kwargs
 
     def call(self, q, kwargs):
         """``q``'s calc function on ``kwargs``, shaped as ``q`` is."""
@@ -160,7 +167,11 @@ class Evaluator:
         if q.part is not None:
             result = named_part(result, q)
         if q.is_grid:
-            return np.asarray(result, dtype=float)
+            result = np.asarray(result, dtype=float)
+            rows = self.layout.get(q.key)
+            if rows is not None and result.ndim == 1 and result.size != rows:
+                result = np.concatenate([result, np.full(rows, np.nan)])[:rows]
+            return result
         if q.is_series or q.items:
             result, shape = np.asarray(result, dtype=float), self.shape_of(q)
             if result.shape != shape and result.size == int(np.prod(shape)) and result.ndim:
@@ -239,7 +250,7 @@ class Evaluator:
         return float(value) if np.ndim(value) == 0 else value
 
 
-def evaluate(spec, values, tables=None, grids=None, overrides=None, keys=None):
+def evaluate(spec, values, tables=None, grids=None, overrides=None, keys=None, layout=None):
     """Every quantity of ``spec`` in sheet units (or only ``keys``, and what they need).
 
     Parameters
@@ -256,8 +267,11 @@ def evaluate(spec, values, tables=None, grids=None, overrides=None, keys=None):
         function (e.g. a student's own crank radius, for consequential credit).
     keys : iterable, optional
         Compute only these (used by the input rules).
+    layout : dict, optional
+        Grid key -> rows of a workbook read back: its computed grids keep the rows
+        they were laid out with when it was built (a torsional sweep's speeds).
     """
-    evaluator = Evaluator(spec, values, tables, grids, overrides)
+    evaluator = Evaluator(spec, values, tables, grids, overrides, layout)
     wanted = spec.quantities() if keys is None else [spec.quantity[k] for k in keys]
     out = {q.key: evaluator.sheet_value(q.key) for q in wanted}
     # Numeric grids as given, not through the SI round trip (462° must stay 462,

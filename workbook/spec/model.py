@@ -196,7 +196,16 @@ class Quantity:
     @cached_property
     def _calc_arguments(self):
         names = inspect.signature(self.calc_function()).parameters
-        return MappingProxyType({name: self.args.get(name, name) for name in names})
+        # a computed grid's ``rows`` is its layout, given by the evaluator, not a key
+        return MappingProxyType({name: self.args.get(name, name) for name in names
+                                 if not (self.is_grid and name == "rows")})
+
+    @cached_property
+    def takes_rows(self):
+        """("rows",) when this computed grid's calc function takes its laid-out rows."""
+        if not self.is_grid or not self.calc:
+            return ()
+        return ("rows",) if "rows" in inspect.signature(self.calc_function()).parameters else ()
 
     @cached_property
     def nodes(self):

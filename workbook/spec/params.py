@@ -183,7 +183,7 @@ def all_digits(value):
     return text[:-2] if text.endswith(".0") else text
 
 
-def validate(spec, values, trace_points=0, tables=None, grids=None):
+def validate(spec, values, trace_points=0, tables=None, grids=None, layout=None):
     """Raise the first error a user would need to fix; return the values.
 
     Bounds first (each parameter on its own), then the per-item tables' shapes,
@@ -219,7 +219,8 @@ def validate(spec, values, trace_points=0, tables=None, grids=None):
     tables = dict(tables or {})
     if trace_points and not tables:
         tables = {c: np.zeros(trace_points) for c in spec.table_column}
-    flags = evaluate(spec, values, tables, grids, keys=[r.key for r in spec.rules])
+    flags = evaluate(spec, values, tables, grids, keys=[r.key for r in spec.rules],
+                     layout=layout)
     for rule in spec.rules:
         flag = np.atleast_1d(flags[rule.key])
         if np.any(flag != 0):
