@@ -290,15 +290,6 @@ def modes_without_rows(natural_frequency, sweep_candidate, sweep_speed_count):
     return float(max(0.0, found - reserved))
 
 
-def block_running_sum(values, response_order):
-    """The running sum of each column over the orders of one speed (restarting at
-    k = 0.5): its last row is that speed's synthesis."""
-    v = np.asarray(values, dtype=float)
-    shape = v.shape
-    v = v.reshape(shape[0] // ORDER_COUNT, ORDER_COUNT, -1)
-    return np.cumsum(v, axis=1).reshape(shape)
-
-
 # ---------------------------------------------------------------- per speed
 def _padded(block, sweep_speed):
     """(speeds, …): ``block``'s rows, then blank rows for the sweep's blank speeds."""
@@ -310,13 +301,6 @@ def _padded(block, sweep_speed):
 def by_speed_and_order(values, sweep_speed):
     """A (rows,) column as (speeds, 24) [same unit]."""
     return _padded(np.asarray(values, dtype=float).reshape(-1, ORDER_COUNT), sweep_speed)
-
-
-def block_ends(running):
-    """(speeds, …) the last row of each speed's block of a running sum."""
-    r = np.asarray(running, dtype=float)
-    return r.reshape(r.shape[0] // ORDER_COUNT, ORDER_COUNT, -1)[:, -1, :].squeeze(-1) \
-        if r.ndim == 1 else r.reshape(r.shape[0] // ORDER_COUNT, ORDER_COUNT, -1)[:, -1, :]
 
 
 def front_amplitude_synthesis(front_amplitude):
