@@ -46,7 +46,6 @@ from crankbook.calc import forced_torsion
 from crankbook.calc.torsional import CAMPBELL_MODES, ORDERS
 
 ORDER_COUNT = len(ORDERS)                # 24: k = 0.5, 1, …, 12
-SWEEP_MAX_COUNT = 201                    # p_sweep_speed_count's stated maximum
 
 
 # ---------------------------------------------------------------- the sweep
