@@ -219,34 +219,117 @@ def holzer_passes(response_order, response_speed, station_inertia, section_stiff
     sheet's columns run (:mod:`crankbook.calc.forced_torsion`): D_i = ω²J_i − iωc_i
     (+ the damper's term at the hub), T_i = T_(i−1) + D_i·θ_i (+ F_i),
     θ_(i+1) = θ_i − T_i/(k_i·(1 + iη))."""
-    omega = (np.ravel(response_order).astype(float)
-             * np.ravel(response_speed).astype(float))[:, None]
-    inertia = np.asarray(station_inertia, dtype=float)
+    omega, d = _dynamic_stiffness(response_order, response_speed, station_inertia,
+                                  cylinder_damping)
     stiffness = np.asarray(section_stiffness, dtype=float)
-    n = inertia.size
+    n = d.shape[1]
     eta = torsion_loss_factor
-    ground = np.array([0.0] + [cylinder_damping] * (n - 2) + [0.0])
-    d = omega ** 2 * inertia[None, :] - 1j * omega * ground[None, :]
     d[:, 0] += np.ravel(damper_re) + 1j * np.ravel(damper_im)
     excitation = station_excitation(response_order, response_cosine, response_sine,
                                     firing_angle, throw, n)
     force = excitation.re + 1j * excitation.im
     out = []
     for start, f in ((1.0, np.zeros_like(force)), (0.0, force)):
-        theta = np.zeros(d.shape, dtype=complex)
-        torque = np.zeros(d.shape, dtype=complex)
-        theta[:, 0] = start
-        running = np.zeros(d.shape[0], dtype=complex)
-        for i in range(n):
-            running = running + d[:, i] * theta[:, i] + f[:, i]
-            torque[:, i] = running
-            if i < n - 1:
-                theta[:, i + 1] = theta[:, i] - running / (stiffness[i] * (1 + 1j * eta))
-        out += [theta.real, theta.imag, torque.real, torque.imag]
+        out += _recurrence(d, stiffness, eta, start, f, omega)
+    return Passes(*out)
+
+
+def _dynamic_stiffness(response_order, response_speed, station_inertia, cylinder_damping):
+    """ω as a (rows, 1) column and D_i = ω²J_i − iωc_i (rows, stations) without the
+    damper."""
+    omega = (np.ravel(response_order).astype(float)
+             * np.ravel(response_speed).astype(float))[:, None]
+    inertia = np.asarray(station_inertia, dtype=float)
+    n = inertia.size
+    ground = np.array([0.0] + [cylinder_damping] * (n - 2) + [0.0])
+    return omega, omega ** 2 * inertia[None, :] - 1j * omega * ground[None, :]
+
+
+def _recurrence(d, stiffness, eta, start, force, omega):
+    """One pass: θ_1 = ``start``, T_i = T_(i−1) + D_i·θ_i + F_i,
+    θ_(i+1) = θ_i − T_i/(k_i·(1 + iη)); [θ re, θ im, T re, T im], blank rows NaN."""
+    n = d.shape[1]
+    theta = np.zeros(d.shape, dtype=complex)
+    torque = np.zeros(d.shape, dtype=complex)
+    theta[:, 0] = start
+    running = np.zeros(d.shape[0], dtype=complex)
+    for i in range(n):
+        running = running + d[:, i] * theta[:, i] + force[:, i]
+        torque[:, i] = running
+        if i < n - 1:
+            theta[:, i + 1] = theta[:, i] - running / (stiffness[i] * (1 + 1j * eta))
+    out = [theta.real, theta.imag, torque.real, torque.imag]
     blank = ~np.isfinite(omega[:, 0])
     for part in out:
         part[blank] = np.nan
-    return Passes(*out)
+    return out
+
+
+class HubPass(NamedTuple):
+    theta_re: np.ndarray
+    theta_im: np.ndarray
+    torque_re: np.ndarray
+    torque_im: np.ndarray
+
+
+def hub_pass(response_order, response_speed, station_inertia, section_stiffness,
+             torsion_loss_factor, cylinder_damping, damper_kind):
+    """Pass 3, only when there is a damper (blank without one): the hub held, θ_1 = 0,
+    under a unit torque T_1 = 1 and no excitation.  The damper enters pass 1 only, as
+    δ·θ_1 at the hub, so pass 1 without it is pass 1 − δ·pass 3: the same rows give
+    the response without the damper beside the one with it."""
+    omega, d = _dynamic_stiffness(response_order, response_speed, station_inertia,
+                                  cylinder_damping)
+    if int(round(damper_kind)) == 0:
+        omega = np.full_like(omega, np.nan)
+    unit = np.zeros_like(d)
+    unit[:, 0] = 1.0
+    return HubPass(*_recurrence(d, np.asarray(section_stiffness, dtype=float),
+                                torsion_loss_factor, 0.0, unit, omega))
+
+
+def _without_damper(free_re, free_im, hub_re, hub_im, damper_re, damper_im, damper_kind):
+    """Pass 1's torques without the damper, T_free − δ·T_hub (complex)."""
+    free = np.asarray(free_re) + 1j * np.asarray(free_im)
+    if int(round(damper_kind)) == 0:
+        return free
+    delta = (np.ravel(damper_re) + 1j * np.ravel(damper_im))
+    delta = delta.reshape((-1,) + (1,) * (free.ndim - 1))
+    return free - delta * (np.asarray(hub_re) + 1j * np.asarray(hub_im))
+
+
+def bare_residual(free_torque_re, free_torque_im, hub_torque_re, hub_torque_im, damper_re,
+                  damper_im, damper_kind):
+    """R_1 without the damper: the last station's torque of pass 1 − δ·pass 3 [N·m]."""
+    r = _without_damper(np.asarray(free_torque_re)[:, -1], np.asarray(free_torque_im)[:, -1],
+                        np.asarray(hub_torque_re)[:, -1], np.asarray(hub_torque_im)[:, -1],
+                        damper_re, damper_im, damper_kind)
+    return Complex(r.real, r.imag)
+
+
+def bare_front(bare_residual_re, bare_residual_im, forced_torque_re, forced_torque_im,
+               front_re, front_im, damper_kind):
+    """θ_1 without the damper, −R_forced/R_1,bare (θ_1 itself when there is none) [rad]."""
+    if int(round(damper_kind)) == 0:
+        return Complex(np.ravel(front_re).astype(float), np.ravel(front_im).astype(float))
+    free = np.ravel(bare_residual_re) + 1j * np.ravel(bare_residual_im)
+    forced = np.asarray(forced_torque_re)[:, -1] + 1j * np.asarray(forced_torque_im)[:, -1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        theta = np.where(np.abs(free) == 0, np.nan, -forced / np.where(free == 0, 1, free))
+    return Complex(theta.real, theta.imag)
+
+
+def bare_section_torque(bare_front_re, bare_front_im, free_torque_re, free_torque_im,
+                        hub_torque_re, hub_torque_im, damper_re, damper_im,
+                        forced_torque_re, forced_torque_im, torsion_loss_factor,
+                        damper_kind):
+    """(rows, sections) each section's elastic torque amplitude without the damper,
+    |θ_1,bare·(T_free − δ·T_hub) + T_forced|/√(1 + η²) [N·m]."""
+    free = _without_damper(free_torque_re, free_torque_im, hub_torque_re, hub_torque_im,
+                           damper_re, damper_im, damper_kind)
+    theta = (np.ravel(bare_front_re) + 1j * np.ravel(bare_front_im))[:, None]
+    torque = theta * free + np.asarray(forced_torque_re) + 1j * np.asarray(forced_torque_im)
+    return np.abs(torque[:, :-1]) / np.sqrt(1 + torsion_loss_factor ** 2)
 
 
 def front_response(free_torque_re, free_torque_im, forced_torque_re, forced_torque_im):
@@ -280,6 +363,12 @@ def order_sum(values, sweep_speed):
     blocks = v.reshape(v.shape[0] // ORDER_COUNT, ORDER_COUNT, -1)
     sums = np.where(np.isfinite(blocks).any(axis=1), np.nansum(blocks, axis=1), np.nan)
     return _padded(sums, sweep_speed)
+
+
+def order_sum_column(values, sweep_speed):
+    """(speeds,) the sum of a per-row column over the 24 orders of each speed [same
+    unit]."""
+    return order_sum(np.ravel(values).astype(float)[:, None], sweep_speed)[:, 0]
 
 
 def modes_without_rows(natural_frequency, sweep_candidate, sweep_speed_count):
@@ -357,6 +446,18 @@ def worst_section_order_torque(response_section_torque, worst_section, sweep_spe
         return _padded(np.full((t.shape[0] // ORDER_COUNT, ORDER_COUNT), np.nan), sweep_speed)
     column = t[:, int(round(worst_section)) - 1]
     return _padded(column.reshape(-1, ORDER_COUNT), sweep_speed)
+
+
+def row_max(values):
+    """The largest value of each row, NaN where it holds none [same unit]."""
+    v = np.asarray(values, dtype=float)
+    filled = np.isfinite(v).any(axis=1)
+    return np.where(filled, np.max(np.where(np.isfinite(v), v, -np.inf), axis=1), np.nan)
+
+
+def peak_section_stress(values, main_journal_diameter, main_journal_bore):
+    """The largest section's shear stress at each speed, from the section torques [Pa]."""
+    return section_stress(row_max(values), main_journal_diameter, main_journal_bore)
 
 
 # ---------------------------------------------------------------- per section

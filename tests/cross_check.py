@@ -30,9 +30,11 @@ WORKBOOKS = {
     "thesis_exact": {"args": ["--set", "exact_kinematics=1", "--set", "speed=3200", "--step",
                               "2"]},
     "thesis_measured": {"args": ["--pressure", "{trace}", "--step", "0.5"]},
+    # … and a viscous damper at the front (issue 42): the response with and without it
     "thesis_edit_offset": {"edit_of": "thesis_step3",
                            "edits": {"offset": -9.0, "rod_length": 172.0, "bore": 92.0,
-                                     "exact_kinematics": 1.0}},
+                                     "exact_kinematics": 1.0, "damper_kind": 1.0,
+                                     "damper_inertia": 0.003, "damper_damping": 2.5}},
     # … and a textbook's three-rotor system typed over the computed one (issue 28)
     "thesis_edit_speed": {"edit_of": "thesis_step3",
                           "edits": {"speed": 2300.0, "crank_radius": 45.0, "piston_mass": 0.41,
@@ -70,7 +72,10 @@ WORKBOOKS = {
                                           "gear_shift": [0.0, 0.11765, 0.0],
                                           "gear_module": 4.0, "intake_opens": -12.0}},
     # multi-cylinder layouts (issue 11) ------------------------------------------
-    "inline4": {"args": ["--preset", "inline-4", "--step", "4"]},
+    # … with a tuned rubber damper at the front (issue 42)
+    "inline4": {"args": ["--preset", "inline-4", "--step", "4", "--set", "damper_kind=2",
+                         "--set", "damper_inertia=0.008", "--set", "damper_stiffness=4e4",
+                         "--set", "damper_damping=6"]},
     # … with a Holzer grid that ends at 600 Hz: its last 200 rows are blank
     # (three operating points where the speed range is not what is checked: with the
     # pressure from the charge each point has its own pressure columns)

@@ -170,6 +170,9 @@ def test_a_minimal_template_loads_and_evaluates():
     ({"formula": "{x}", "calc": "calc.kinematics.no_such_function"}, "not a function"),
     ({"formula": "{x}", "unit": "furlong"}, "unit 'furlong'"),
     ({"formula": "{x:items}"}, "needs a per-item quantity"),
+    ({"formula": "-{x}^2"}, "unary minus before '^'"),
+    ({"formula": "1+(-({x}*2)^2)"}, "unary minus before '^'"),
+    ({"formula": "MAX(0,-SQRT({x})^3)"}, "unary minus before '^'"),
 ])
 def test_authoring_mistakes_name_the_file_and_key(column, words):
     with pytest.raises(SpecError) as caught:
@@ -178,6 +181,12 @@ def test_authoring_mistakes_name_the_file_and_key(column, words):
     assert message.startswith("templates/mine.toml: y: "), message
     assert words in message
     assert caught.value.file == "mine.toml" and caught.value.key == "y"
+
+
+@pytest.mark.parametrize("formula", ["-({x}^2)", "0-{x}^2", "{x}-{x}^2", "2^-{x}",
+                                     "{x}*-1", "EXP(-{x})^2"])
+def test_a_minus_a_spreadsheet_reads_as_numpy_does_is_allowed(formula):
+    from_data(_with_column(formula=formula), file="mine.toml")
 
 
 def test_a_key_defined_twice_is_refused():

@@ -10,6 +10,7 @@ import re
 from crankbook.spec import placeholders
 
 from crankbook.spec import units
+from crankbook.spec.excel_traps import unary_minus_power
 from crankbook.errors import SpecError
 from crankbook.spec.placeholders import Ref, Special, Sum, TemplateSyntaxError
 
@@ -117,6 +118,10 @@ def _check_quantity(spec, q, known):
         if bad:
             raise SpecError(where, q.key, f"uses {bad.group(1)}, which Excel 2010 lacks or "
                                           f"which is volatile")
+        trap = unary_minus_power(text)
+        if trap:
+            raise SpecError(where, q.key, f"writes a unary minus before '^' ({trap!r}): a "
+                                          f"spreadsheet squares the minus too; write -(x^2)")
         try:
             nodes = placeholders.parse(text)
         except TemplateSyntaxError as error:
