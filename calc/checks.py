@@ -154,3 +154,14 @@ def damper_without_inertia(damper_kind, damper_inertia):
 def tuned_without_stiffness(damper_kind, damper_stiffness):
     """1 where a tuned damper has no rubber stiffness to be tuned by."""
     return _flag((np.asarray(damper_kind) == 2) & (np.asarray(damper_stiffness) == 0))
+
+
+def oil_bore_too_wide(oil_bore_diameter, crankpin_diameter):
+    """1 where the crankpin's oil bore is not narrower than the pin."""
+    return _flag(np.asarray(oil_bore_diameter) >= np.asarray(crankpin_diameter))
+
+
+def pin_outside_span(m53_l2_typed, m53_l3_typed):
+    """1 where typed M53 lengths put the crankpin outside the main journals (L2 ≥ L3)."""
+    l2, l3 = np.asarray(m53_l2_typed), np.asarray(m53_l3_typed)
+    return _flag((l2 > 0) & (l3 > 0) & (l2 >= l3))
