@@ -99,16 +99,6 @@ def alternating(values):
     return (np.nanmax(v) - np.nanmin(v)) / 2
 
 
-def alternating_web_moment(pin_radial_load, m53_l1, m53_l2, m53_l3):
-    """M_BN: half the range of the web's bending moment from the radial force [N·m]."""
-    return alternating(web_moment(pin_radial_load, m53_l1, m53_l2, m53_l3))
-
-
-def alternating_web_shear(pin_radial_load, m53_l2, m53_l3):
-    """Q_N: half the range of the web's shear force [N]."""
-    return alternating(web_shear(pin_radial_load, m53_l2, m53_l3))
-
-
 # ---------------------------------------------------------------- nominal stresses
 def web_bending_stress(m53_moment, web_width, web_thickness):
     """σ_BN = M_BN/W_eqw, W_eqw = B·W²/6 [Pa]."""
