@@ -36,7 +36,11 @@ used inside the fatigue-strength fit only.
 
 References
 ----------
-IACS UR M53 "Calculation of crankshafts for I.C. engines", Rev. 3 (2015), §2–§7.
+IACS UR M53 "Calculation of crankshafts for I.C. engines", Rev. 1 (Dec 2004) and later:
+§2 stresses, §3 stress concentration factors, §4 additional bending stresses, §5
+equivalent alternating stress, §6 fatigue strength, §7 acceptability criteria (the
+section layout checked against Rev. 1's table of contents; the constants were not
+checked against a second copy of the text).
 DNV-CG-0037 "Calculation of crankshafts for reciprocating internal combustion
 engines" (the same method and factors).
 """
