@@ -116,7 +116,7 @@ def _quantity(entry, kind, **extra):
     known = {"key", "unit", "zh", "en", "formula", "calc", "args", "part", "summary", "format",
              "first",
              "guard", "array", "items", "_file", "_prefix", "names", "discrete", "must_pass",
-             "item_word_zh", "item_word_en", "fold"}
+             "item_word_zh", "item_word_en", "fold", "verdict"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, entry["key"], f"unknown field(s) {', '.join(sorted(unknown))}")
@@ -132,6 +132,7 @@ def _quantity(entry, kind, **extra):
                     discrete=entry.get("discrete", False),
                     must_pass=entry.get("must_pass", False),
                     fold=entry.get("fold", False),
+                    verdict=entry.get("verdict", False),
                     source=file, **extra)
 
 
@@ -365,8 +366,14 @@ def build(data, file):
                  size_args=dict(a.get("size_args", {})), max=a.get("max", 64),
                  product=tuple(a.get("product", ())), aligned=a.get("aligned"),
                  value_key=a.get("value_key"), value_label_zh=a.get("value_label_zh", ""),
-                 value_label_en=a.get("value_label_en", ""))
+                 value_label_en=a.get("value_label_en", ""),
+                 item_names_zh=tuple(a.get("item_names_zh", ())),
+                 item_names_en=tuple(a.get("item_names_en", ())))
             for a in data["axis"]]
+    for a in axes:
+        if len(a.item_names_zh) != len(a.item_names_en):
+            raise SpecError(file, a.key, "item_names_zh and item_names_en must name the same "
+                            "items")
     constants = [Constant(key=c["key"], unit=c["unit"], value=float(c["value"]),
                           zh=c.get("zh", ""), en=c.get("en", "")) for c in data["constant"]]
     if cycle is not None:

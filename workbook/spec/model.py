@@ -97,9 +97,16 @@ class Axis:
     value_key: str | None = None
     value_label_zh: str = ""
     value_label_en: str = ""
+    # items named by words (a fixed list of checks): one name per item and language
+    item_names_zh: tuple = ()
+    item_names_en: tuple = ()
 
     def label(self, lang, number, value=None):
-        """"Cylinder 3", or for an axis named by values "k = 2" / "2 阶"."""
+        """"Cylinder 3", for an axis named by values "k = 2" / "2 阶", for an axis
+        named by words its item's name."""
+        names = self.item_names_zh if lang == "zh" else self.item_names_en
+        if names and 1 <= number <= len(names):
+            return names[number - 1]
         if self.value_key and value is not None:
             pattern = self.value_label_zh if lang == "zh" else self.value_label_en
             return pattern.format(value=value)
@@ -168,6 +175,7 @@ class Quantity:
     names: tuple = ()             # rules: the parameters the rule is about
     discrete: bool = False        # an index or a grid angle: agrees exactly or not at all
     must_pass: bool = False       # a 1/0 check: 0 refuses the build with one line
+    verdict: bool = False         # a 1/0 pass mark: its cell is green at 1, red at 0
     fold: bool = False            # items sheets: a working column, grouped and folded
                                   # (it neither shows nor prints until unfolded)
     source: str = ""              # the template file that defines it

@@ -26,6 +26,11 @@ def write_formula_cell(ws, row, col, quantity, layout, results, styles, sheet_na
         ws.write_array_formula(row, col, row, col, "{" + formula + "}", fmt, cached(value))
     else:
         ws.write_formula(row, col, formula, fmt, cached(value))
+    if quantity.verdict:
+        # a pass mark reads at a glance, on screen and on a colour print
+        for mark, colour in ((1, styles.status_ok), (0, styles.status_bad)):
+            ws.conditional_format(row, col, row, col, {"type": "cell", "criteria": "==",
+                                                       "value": mark, "format": colour})
 
 
 def rule_wrapper(layout, rule, condition):
