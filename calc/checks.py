@@ -165,3 +165,20 @@ def pin_outside_span(m53_l2_typed, m53_l3_typed):
     """1 where typed M53 lengths put the crankpin outside the main journals (L2 ≥ L3)."""
     l2, l3 = np.asarray(m53_l2_typed), np.asarray(m53_l3_typed)
     return _flag((l2 > 0) & (l3 > 0) & (l2 >= l3))
+
+
+def web_wider_than_flange(rod_section_standard, rod_web_thickness, rod_flange_width):
+    """1 where a typed I-section's web is not thinner than its flange is wide."""
+    return _flag((np.asarray(rod_section_standard) == 0)
+                 & (np.asarray(rod_web_thickness) >= rod_flange_width))
+
+
+def flanges_fill_section(rod_section_standard, rod_flange_thickness, rod_section_height):
+    """1 where a typed I-section's two flanges are as thick as the section is high."""
+    return _flag((np.asarray(rod_section_standard) == 0)
+                 & (2 * np.asarray(rod_flange_thickness) >= rod_section_height))
+
+
+def overspeed_below_speed(overspeed, speed):
+    """1 where a typed over-speed is below the design speed."""
+    return _flag((np.asarray(overspeed) > 0) & (np.asarray(overspeed) < speed))

@@ -38,12 +38,23 @@ WORKBOOKS = {
     # … and a textbook's three-rotor system typed over the computed one (issue 28)
     "thesis_edit_speed": {"edit_of": "thesis_step3",
                           "edits": {"speed": 2300.0, "crank_radius": 45.0, "piston_mass": 0.41,
+                                    # a typed I-section, a cut thread, a typed joint
+                                    # constant and over-speed, a fine M10 of class 8.8
+                                    # (issue 44)
+                                    "rod_section_standard": 0.0, "rod_flange_width": 20.0,
+                                    "rod_section_height": 26.0, "rod_web_thickness": 4.0,
+                                    "bolt_thread_rolled": 0.0, "overspeed": 2900.0,
+                                    "bolt_joint_constant_typed": 0.25, "bolt_size": "M10x1",
+                                    "bolt_property_class": "8.8", "bolt_span_typed": 70.0,
                                     "station_inertia_typed": [0.3, 1.2, 0.7],
                                     "section_stiffness_typed": [2.0e5, 3.5e5],
                                     "holzer_step": 1.0}},
     # … and a Holzer grid too fine to reach the first mode: blank, and the status says why
+    # … and a bush that turns loose when warm: its fit check blank, the rod failed
     "thesis_edit_exact": {"edit_of": "thesis_step3", "edits": {"exact_kinematics": 1.0, "speed": 6100.0,
-                                                                "holzer_step": 0.001}},
+                                                                "holzer_step": 0.001,
+                                                                "bush_interference": 0.0,
+                                                                "bush_expansion": 6.0}},
     "thesis_edit_trace": {"edit_of": "thesis_step3", "edits": {"pressure_source": 1.0},
                           "tables": {"trace_crank_angle": PASTED_TRACE,
                                      "trace_pressure": 0.12 + 3.0 * np.exp(
@@ -81,7 +92,10 @@ WORKBOOKS = {
     # pressure from the charge each point has its own pressure columns)
     "inline6_step3": {"args": ["--preset", "inline-6", "--step", "3", "--set",
                                "holzer_max_frequency=600", "--set", "operating_speed=1500,4000,6500"]},
+    # … and M18 bolts of class 8.8 (its strengths above M16) with a typed grip
     "v8_counterweights": {"args": ["--preset", "v8-crossplane", "--set", "counterweights=1",
+                                   "--set", "bolt_size=M18", "--set", "bolt_property_class=8.8",
+                                   "--set", "bolt_grip_typed=30",
                                    "--set", "balance_fraction=0.5", "--step", "3", "--set", "operating_speed=1500,4000,6500"]},
     "vtwin_series_step2_en": {"args": ["--preset", "v-twin-90", "--set", "exact_kinematics=0",
                                        "--step", "2", "--lang", "en", "--set", "operating_speed=1500,4000,6500"]},
