@@ -486,6 +486,11 @@ def governing(rod_check_margin):
     return float(np.nanargmin(m) + 1)
 
 
+def governs(rod_governing_check):
+    """1 at the governing check, 0 at the others."""
+    return np.where(np.arange(1, len(CHECKS) + 1) == rod_governing_check, 1.0, 0.0)
+
+
 def verdict(rod_check_pass):
     """1 when every check holds, else 0."""
     return float(np.all(np.asarray(rod_check_pass) == 1))

@@ -21,7 +21,9 @@ def key_width(keys, minimum):
     """Width (characters) of a column of keys in the key style that shows the longest
     whole: a key cannot wrap, and its neighbour (the value) stops it at the column's
     edge on the screen and on paper."""
-    longest = max((len(k) for k in keys), default=0)
+    # a Latin character counts 1 (0.85 of a column at Arial 10), a CJK glyph twice
+    # that: an axis's named items ("杆身失稳（运动平面内）") are keys too
+    longest = max((_glyphs_width(k) / 0.85 for k in keys), default=0)
     return max(minimum, math.ceil(longest * KEY_COLUMNS_PER_CHARACTER + 1))
 
 
