@@ -120,21 +120,20 @@ def run_cli(*args, cwd=None, timeout=None, stdin=None):
 _NAMED = {}
 
 
-def named(path, prefixes=("p_", "q_"), only=None, recalculated=False):
+def named(path, prefixes=("p_", "q_"), only=None):
     """name -> value (one cell) or list of values, of a workbook's defined names
-    (``only``: just these names — only their sheets are parsed; ``recalculated``: a
-    spreadsheet engine's saved copy, read with its larger limits; remembered per file
+    (``only``: just these names — only their sheets are parsed; remembered per file
     version: many tests read the same key workbooks)."""
     stat = Path(path).stat()
     only = tuple(sorted(only)) if only else None
     memo = (str(Path(path).resolve()), stat.st_mtime_ns, stat.st_size, tuple(prefixes), only)
     if memo not in _NAMED:
-        _NAMED[memo] = _read_named(path, only or prefixes, only, recalculated)
+        _NAMED[memo] = _read_named(path, only or prefixes, only)
     return copy.deepcopy(_NAMED[memo])
 
 
-def _read_named(path, prefixes, only=None, recalculated=False):
-    book = open_book(path, recalculated)
+def _read_named(path, prefixes, only=None):
+    book = open_book(path)
     out = {}
     for name, found in defined_ranges(book, prefixes).items():
         if only and name not in only:

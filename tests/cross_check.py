@@ -237,6 +237,6 @@ def recalculate_all(tmp, paths, workbooks=WORKBOOKS):
         converted, gnumeric = lo.result(), gn.result()
     for engine, files in (("libreoffice", converted), ("gnumeric", gnumeric)):
         for name, path in zip(paths, files):
-            out[name].engines[engine] = named(path, recalculated=True)
+            out[name].engines[engine] = named(path)
             out[name].saved[engine] = path
     return out

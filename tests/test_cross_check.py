@@ -139,3 +139,29 @@ def test_a_grid_that_finds_no_mode_says_so_in_the_status_cell(checked, engine):
     assert all(v in (None, "") for row in recalculated["q_mode_shape"] for v in
                (row if isinstance(row, (list, tuple)) else [row]))
     assert "p_holzer_step" not in checked["thesis_step3"].engines[engine]["q_input_status"]
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_a_bush_loose_when_warm_fails_the_rod_and_says_why(checked, engine):
+    """The typed edit leaves the bush no interference at running temperature: its fit
+    check cannot be made, the rod fails, and the status cell asks for interference."""
+    recalculated = checked["thesis_edit_exact"].engines[engine]
+    assert recalculated["q_small_end_loose"] == 1
+    assert recalculated["q_small_end_fit_factor"] in (None, "")
+    assert recalculated["q_rod_ok"] == 0
+    assert "p_bush_interference" in recalculated["q_input_status"]
+
+
+def test_a_workbook_libreoffice_saved_is_read_by_the_users_commands(checked, tmp_path):
+    """An engineer edits the inline-6 in LibreOffice and saves it: the engine writes
+    every shared formula out, past the limits of a class's files, and export still
+    reads it."""
+    import zipfile
+
+    from tests.conftest import run_cli
+    saved = checked["inline6_step3"].saved["libreoffice"]
+    with zipfile.ZipFile(saved) as z:
+        assert sum(i.file_size for i in z.infolist()) > 100 * 2 ** 20
+    done = run_cli("export", "torsion", saved, "-o", tmp_path / "torsion")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "torsion" / "stations.csv").exists()

@@ -62,7 +62,7 @@ def audit_workbook(path, workdir=None):
     if recalculated:
         with temporary_directory("audit", workdir) as tmp:
             converted = recalc.convert([path], tmp)[0]
-            return _audit(loaded, load_named(converted, recalculated=True), recalculated)
+            return _audit(loaded, load_named(converted), recalculated)
     return _audit(loaded, loaded, recalculated)
 
 

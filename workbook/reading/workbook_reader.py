@@ -126,14 +126,19 @@ def formulas(book, found):
     return _block(book.has_formulas, book, found)
 
 
-def open_book(path, recalculated=False):
-    """A checked, bounded XlsxBook, or WorkbookReadError with the reason; a spreadsheet
-    engine's ``recalculated`` copy of a checked file gets the larger limits of
-    RECALCULATED_SCALE (the engine writes each shared formula out in full)."""
+def open_book(path):
+    """A checked, bounded XlsxBook, or WorkbookReadError with the reason.
+
+    A workbook someone opens with crankbook (verify, audit, export, read) may well
+    have been saved by a spreadsheet engine, which writes each shared formula out in
+    full: LibreOffice saves the inline-6 at 23 MB, 260 MB unpacked. So it is read with
+    the larger limits of RECALCULATED_SCALE, as an engine's recalculated copy is; the
+    limits stay bounded. A class's files (grade, check) are read with the plain limits:
+    a hundred files from many hands."""
     path = Path(path)
     require_file(path, WorkbookReadError)
     try:
-        return XlsxBook(path, scale=RECALCULATED_SCALE if recalculated else 1)
+        return XlsxBook(path, scale=RECALCULATED_SCALE)
     except Unreadable as reason:
         raise WorkbookReadError(f"{path}: {reason}") from None
 
@@ -280,12 +285,11 @@ def role_of(book, ranges):
     return role, _property(book, PROPERTY_ASSIGNMENT)
 
 
-def load_named(path, recalculated=False):
-    """(book, spec, template, ranges, values, tables, grids, sizes, grid rows); a
-    ``recalculated`` copy is read with open_book's larger limits."""
+def load_named(path):
+    """(book, spec, template, ranges, values, tables, grids, sizes, grid rows)."""
     from crankbook.spec.evaluate import axis_sizes
     from crankbook.spec.params import fit_derived_items
-    book = open_book(path, recalculated)
+    book = open_book(path)
     ranges = defined_ranges(book)
     role, assignment = role_of(book, ranges)
     if role == "student":
