@@ -282,3 +282,17 @@ def checked(soffice, ssconvert, tmp_path_factory):
     from tests.cross_check import build_all, recalculate_all
     tmp = tmp_path_factory.mktemp("cross-check")
     return recalculate_all(tmp, build_all(tmp))
+
+
+def assert_build_refused_in_one_line(tmp_path, preset, sets, words):
+    """``crankbook build --preset PRESET --set …`` in its own Python, as a user runs it:
+    exit 2, one line holding ``words``, no traceback, no file written."""
+    out = tmp_path / "bad.xlsx"
+    args = [sys.executable, "-m", "crankbook", "build", "--preset", preset, "-o", str(out)]
+    for value in sets:
+        args += ["--set", value]
+    run = subprocess.run(args, capture_output=True, text=True)
+    assert run.returncode == 2, run.stderr
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and words in lines[0], run.stderr
+    assert "Traceback" not in run.stderr and not out.exists()

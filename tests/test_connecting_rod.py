@@ -4,14 +4,13 @@ amplified stress, Lamé's fit as matched displacements, the whipping moment as t
 peak of a triangular inertia load, the load share at zero preload), the workbook's
 numpy path on the thesis engine and bad inputs."""
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 import crankbook
 from crankbook.calc import connecting_rod as rod
+from tests.conftest import assert_build_refused_in_one_line
 
 # ---------------------------------------------------------------- Khurmi & Gupta 32.3
 # "Design a connecting rod for an I.C. engine running at 1800 r.p.m. and developing a
@@ -233,12 +232,4 @@ def test_a_thinner_cap_fails_and_governs():
     (["overspeed=3000"], "over-speed"),
 ])
 def test_bad_rod_inputs_are_one_line(tmp_path, values, words):
-    out = tmp_path / "bad.xlsx"
-    args = [sys.executable, "-m", "crankbook", "build", "--preset", "thesis", "-o", str(out)]
-    for value in values:
-        args += ["--set", value]
-    run = subprocess.run(args, capture_output=True, text=True)
-    assert run.returncode == 2, run.stderr
-    lines = run.stderr.strip().splitlines()
-    assert len(lines) == 1 and words in lines[0], run.stderr
-    assert "Traceback" not in run.stderr and not out.exists()
+    assert_build_refused_in_one_line(tmp_path, "thesis", values, words)

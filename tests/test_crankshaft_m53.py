@@ -3,14 +3,13 @@ independent transcription (coefficient tables, evaluated by Horner's scheme), th
 fatigue strength against hand arithmetic, the throw's statics against a hand
 calculation, the workbook's three places and bad inputs."""
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 import crankbook
 from crankbook.calc import crankshaft_m53 as m53
+from tests.conftest import assert_build_refused_in_one_line
 
 # ---------------------------------------------------------------- a second transcription
 # UR M53 §3: each factor a product of fits; polynomials as coefficient lists from the
@@ -168,12 +167,4 @@ def test_a_ratio_out_of_range_is_named_and_fails_the_rule():
     (["m53_l2_typed=90", "m53_l3_typed=80"], "L2 must be shorter than L3"),
 ])
 def test_bad_m53_inputs_are_one_line(tmp_path, values, words):
-    out = tmp_path / "bad.xlsx"
-    args = [sys.executable, "-m", "crankbook", "build", "--preset", "inline-6", "-o", str(out)]
-    for value in values:
-        args += ["--set", value]
-    run = subprocess.run(args, capture_output=True, text=True)
-    assert run.returncode == 2, run.stderr
-    lines = run.stderr.strip().splitlines()
-    assert len(lines) == 1 and words in lines[0], run.stderr
-    assert "Traceback" not in run.stderr and not out.exists()
+    assert_build_refused_in_one_line(tmp_path, "inline-6", values, words)
