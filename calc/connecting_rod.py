@@ -481,9 +481,10 @@ def passes(rod_check_margin):
 
 
 def governing(rod_check_margin):
-    """The number of the check with the smallest margin (the first of equals) [-]."""
+    """The number of the check with the smallest margin (the first of equals); NaN
+    when no check could be made [-]."""
     m = np.asarray(rod_check_margin, dtype=float)
-    return float(np.nanargmin(m) + 1)
+    return float(np.nanargmin(m) + 1) if np.isfinite(m).any() else np.nan
 
 
 def governs(rod_governing_check):

@@ -218,6 +218,12 @@ def test_the_thesis_rod():
     assert int(r["rod_governing_check"]) == int(np.argmin(margins)) + 1
 
 
+def test_no_check_made_governs_nothing():
+    margins = np.full(len(rod.CHECKS), np.nan)
+    assert np.isnan(rod.governing(margins))
+    assert rod.verdict(rod.passes(margins)) == 0.0
+
+
 def test_a_thinner_cap_fails_and_governs():
     r = crankbook.compute("thesis", cap_thickness=8.0)
     assert float(r["rod_ok"]) == 0.0
