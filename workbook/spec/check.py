@@ -109,6 +109,8 @@ def _check_quantity(spec, q, known):
         raise SpecError(where, q.key, f"unit {q.unit!r} is not in units.toml")
     if q.items and q.items not in spec.axis:
         raise SpecError(where, q.key, f"unknown axis {q.items!r}")
+    if isinstance(q.target, str) and q.target not in known:
+        raise SpecError(where, q.key, f"target {q.target!r} is not a key of this workbook")
     if q.is_numeric_grid:
         return
     for text in (q.formula, q.first):

@@ -116,7 +116,7 @@ def _quantity(entry, kind, **extra):
     known = {"key", "unit", "zh", "en", "formula", "calc", "args", "part", "summary", "format",
              "first",
              "guard", "array", "items", "_file", "_prefix", "names", "discrete", "must_pass",
-             "item_word_zh", "item_word_en", "fold", "verdict"}
+             "item_word_zh", "item_word_en", "fold", "verdict", "target"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, entry["key"], f"unknown field(s) {', '.join(sorted(unknown))}")
@@ -133,6 +133,7 @@ def _quantity(entry, kind, **extra):
                     must_pass=entry.get("must_pass", False),
                     fold=entry.get("fold", False),
                     verdict=entry.get("verdict", False),
+                    target=entry.get("target"),
                     source=file, **extra)
 
 

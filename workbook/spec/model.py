@@ -176,6 +176,8 @@ class Quantity:
     discrete: bool = False        # an index or a grid angle: agrees exactly or not at all
     must_pass: bool = False       # a 1/0 check: 0 refuses the build with one line
     verdict: bool = False         # a 1/0 pass mark: its cell is green at 1, red at 0
+    target: str | float | None = None   # a factor asked to reach a key's value or a
+                                        # number: green at or above it, red below
     fold: bool = False            # items sheets: a working column, grouped and folded
                                   # (it neither shows nor prints until unfolded)
     source: str = ""              # the template file that defines it

@@ -31,6 +31,13 @@ def write_formula_cell(ws, row, col, quantity, layout, results, styles, sheet_na
         for mark, colour in ((1, styles.status_ok), (0, styles.status_bad)):
             ws.conditional_format(row, col, row, col, {"type": "cell", "criteria": "==",
                                                        "value": mark, "format": colour})
+    if quantity.target is not None:
+        # a factor against what it is asked to reach, live: the target may be an input
+        target = quantity.target if not isinstance(quantity.target, str) \
+            else f"={layout.locator.name(quantity.target)}"
+        for criteria, colour in ((">=", styles.status_ok), ("<", styles.status_bad)):
+            ws.conditional_format(row, col, row, col, {"type": "cell", "criteria": criteria,
+                                                       "value": target, "format": colour})
 
 
 def rule_wrapper(layout, rule, condition):
