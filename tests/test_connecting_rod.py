@@ -239,3 +239,11 @@ def test_a_thinner_cap_fails_and_governs():
 ])
 def test_bad_rod_inputs_are_one_line(tmp_path, values, words):
     assert_build_refused_in_one_line(tmp_path, "thesis", values, words)
+
+
+def test_the_verdict_rows_are_named_for_their_checks():
+    """The rod-check axis names its rows in both languages, one per check."""
+    from crankbook.spec.loader import load
+    axis = load("engine").axis["rod_check"]
+    assert len(axis.item_names_en) == len(axis.item_names_zh) == len(rod.CHECKS)
+    assert axis.label("en", 8) == "Cap bending" and axis.label("zh", 8) == "连杆盖弯曲"

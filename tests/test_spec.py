@@ -355,3 +355,21 @@ def test_a_templates_defaults_override_its_librarys():
     assert load("engine").parameter["crankpin_diameter"].default == 48.0
     with pytest.raises(SpecError, match="no library defines"):
         from_data(_minimal(defaults={"no_such_input": 1.0}), file="mine.toml")
+
+
+def test_a_target_names_a_key_of_the_workbook():
+    """``target`` colours a factor against a key's live value: a key the workbook does
+    not have is refused when the template loads; a key it has, or a number, loads."""
+    with pytest.raises(SpecError, match="y: target 'nope' is not a key of this workbook"):
+        from_data(_with_column(formula="{x}", target="nope"))
+    from_data(_with_column(formula="{x}", target="crank_radius"))
+    from_data(_with_column(formula="{x}", target=2.0))
+
+
+def test_item_names_come_in_both_languages():
+    data = _minimal()
+    data["axis"] = [{"key": "check", "zh": "校核", "en": "Checks", "size_calc":
+                     "calc.connecting_rod.check_count", "item_names_zh": ["一", "二"],
+                     "item_names_en": ["one"]}]
+    with pytest.raises(SpecError, match="check: item_names_zh and item_names_en"):
+        from_data(data)
