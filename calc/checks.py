@@ -182,3 +182,10 @@ def flanges_fill_section(rod_section_standard, rod_flange_thickness, rod_section
 def overspeed_below_speed(overspeed, speed):
     """1 where a typed over-speed is below the design speed."""
     return _flag((np.asarray(overspeed) > 0) & (np.asarray(overspeed) < speed))
+
+
+def bolt_class_not_in_table(bolt_property_class):
+    """1 where the bolt's property class is none of 8.8, 9.8, 10.9 and 12.9."""
+    # to one decimal, as the formula's ROUND: a typed 8.8 may come back 8.800000000000001
+    return _flag(~np.isin(np.round(np.asarray(bolt_property_class, dtype=float), 1),
+                          (8.8, 9.8, 10.9, 12.9)))

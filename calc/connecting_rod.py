@@ -79,10 +79,11 @@ BOLT_SIZES = (("M5", 5, 0.8), ("M6", 6, 1.0), ("M8", 8, 1.25), ("M8x1", 8, 1.0),
               ("M22", 22, 2.5), ("M24", 24, 3.0))
 # property classes (ISO 898-1; Shigley Table 8-11): proof S_p and tensile S_ut in MPa
 # (8.8 below and above M16), and the endurance strength of rolled threads S_e
-# (Shigley Table 8-17), in MPa
-PROPERTY_CLASSES = (("8.8", (580, 800), (600, 830), 129), ("9.8", (650, 900), (650, 900), 140),
-                    ("10.9", (830, 1040), (830, 1040), 162),
-                    ("12.9", (970, 1220), (970, 1220), 190))
+# (Shigley Table 8-17), in MPa.  The class is typed as the number it is named by (a
+# choice word "10.9" is read as a number by Gnumeric, and fails a word's match)
+PROPERTY_CLASSES = ((8.8, (580, 800), (600, 830), 129), (9.8, (650, 900), (650, 900), 140),
+                    (10.9, (830, 1040), (830, 1040), 162),
+                    (12.9, (970, 1220), (970, 1220), 190))
 # cut threads notch more than rolled ones (Shigley Table 8-16, classes 6.6–10.9: K_f 3.0
 # rolled, 3.8 cut): S_e of a cut thread is the rolled one's × 3.0/3.8
 CUT_THREAD_FACTOR = 3.0 / 3.8
@@ -120,18 +121,6 @@ def largest(values):
 def largest_tension(values):
     """The largest tension, −min of a compression-positive force, never below 0 [N]."""
     return max(0.0, -float(np.nanmin(np.asarray(values, dtype=float))))
-
-
-def angle_of_largest(values, crank_angle):
-    """The grid angle of the first largest value [rad]."""
-    return float(np.asarray(crank_angle, dtype=float).ravel()[
-        int(np.nanargmax(np.asarray(values, dtype=float)))])
-
-
-def angle_of_smallest(values, crank_angle):
-    """The grid angle of the first smallest value [rad]."""
-    return float(np.asarray(crank_angle, dtype=float).ravel()[
-        int(np.nanargmin(np.asarray(values, dtype=float)))])
 
 
 def cap_load(rod_tension_max, rod_mass, small_end_mass, rod_cap_mass, crank_radius,
@@ -331,7 +320,9 @@ def core_area(diameter, pitch):
 
 
 def _class(bolt_property_class):
-    return PROPERTY_CLASSES[int(round(bolt_property_class)) - 1]
+    """The table's row of a property class (one of 8.8, 9.8, 10.9, 12.9: a rule says
+    so; the nearest, so a value moved by rounding still finds its row)."""
+    return min(PROPERTY_CLASSES, key=lambda row: abs(row[0] - bolt_property_class))
 
 
 def proof_strength(bolt_property_class, bolt_diameter):

@@ -45,7 +45,7 @@ WORKBOOKS = {
                                     "rod_section_height": 26.0, "rod_web_thickness": 4.0,
                                     "bolt_thread_rolled": 0.0, "overspeed": 2900.0,
                                     "bolt_joint_constant_typed": 0.25, "bolt_size": "M10x1",
-                                    "bolt_property_class": "8.8", "bolt_span_typed": 70.0,
+                                    "bolt_property_class": 8.8, "bolt_span_typed": 70.0,
                                     "station_inertia_typed": [0.3, 1.2, 0.7],
                                     "section_stiffness_typed": [2.0e5, 3.5e5],
                                     "holzer_step": 1.0}},

@@ -235,6 +235,7 @@ def test_a_thinner_cap_fails_and_governs():
     (["rod_section_standard=0", "rod_flange_thickness=12"], "two flanges"),
     (["bush_outer_diameter=20"], "bush's bore"),
     (["bolt_size=M7"], "bolt_size"),
+    (["bolt_property_class=11.9"], "property class must be 8.8, 9.8, 10.9 or 12.9"),
     (["overspeed=3000"], "over-speed"),
 ])
 def test_bad_rod_inputs_are_one_line(tmp_path, values, words):
