@@ -68,15 +68,12 @@ OVERSPEED_FACTOR = 1.2          # the over-speed when none is typed: 1.2 × the 
 BOLT_CLEARANCE = 3e-3           # m: Khurmi & Gupta's clearance beside the bolt in the span
 CORE_FACTOR_TARGET = 6.0        # Khurmi & Gupta: the bolts' factor of safety on S_ut
 
-# metric threads: (name, nominal diameter mm, pitch mm) — ISO 261 coarse, and the fine
-# pitches rod bolts are made in
-BOLT_SIZES = (("M5", 5, 0.8), ("M6", 6, 1.0), ("M8", 8, 1.25), ("M8x1", 8, 1.0),
-              ("M9x1", 9, 1.0), ("M10", 10, 1.5), ("M10x1", 10, 1.0),
-              ("M10x1.25", 10, 1.25), ("M11x1", 11, 1.0), ("M12", 12, 1.75),
-              ("M12x1.25", 12, 1.25), ("M12x1.5", 12, 1.5), ("M14", 14, 2.0),
-              ("M14x1.5", 14, 1.5), ("M16", 16, 2.0), ("M16x1.5", 16, 1.5),
-              ("M18", 18, 2.5), ("M18x1.5", 18, 1.5), ("M20", 20, 2.5), ("M20x1.5", 20, 1.5),
-              ("M22", 22, 2.5), ("M24", 24, 3.0))
+# metric threads: (name, nominal diameter mm, pitch mm) — the sizes rod bolts are made
+# in, ISO 261 coarse and fine
+BOLT_SIZES = (("M6", 6, 1.0), ("M8", 8, 1.25), ("M8x1", 8, 1.0), ("M9x1", 9, 1.0),
+              ("M10", 10, 1.5), ("M10x1", 10, 1.0), ("M10x1.25", 10, 1.25), ("M11x1", 11, 1.0),
+              ("M12", 12, 1.75), ("M12x1.25", 12, 1.25), ("M14x1.5", 14, 1.5),
+              ("M16x1.5", 16, 1.5), ("M18x1.5", 18, 1.5))
 # property classes (ISO 898-1; Shigley Table 8-11): proof S_p and tensile S_ut in MPa
 # (8.8 below and above M16), and the endurance strength of rolled threads S_e
 # (Shigley Table 8-17), in MPa.  The class is typed as the number it is named by (a

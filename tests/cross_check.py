@@ -94,7 +94,7 @@ WORKBOOKS = {
                                "holzer_max_frequency=600", "--set", "operating_speed=1500,4000,6500"]},
     # … and M18 bolts of class 8.8 (its strengths above M16) with a typed grip
     "v8_counterweights": {"args": ["--preset", "v8-crossplane", "--set", "counterweights=1",
-                                   "--set", "bolt_size=M18", "--set", "bolt_property_class=8.8",
+                                   "--set", "bolt_size=M18x1.5", "--set", "bolt_property_class=8.8",
                                    "--set", "bolt_grip_typed=30",
                                    "--set", "balance_fraction=0.5", "--step", "3", "--set", "operating_speed=1500,4000,6500"]},
     "vtwin_series_step2_en": {"args": ["--preset", "v-twin-90", "--set", "exact_kinematics=0",

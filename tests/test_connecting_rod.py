@@ -143,9 +143,9 @@ def test_bolt_share_at_zero_preload_is_c_times_p():
 
 
 def test_iso_stress_areas():
-    """ISO 898-1's stress areas: M8 36.6, M10 58.0, M12 84.3, M16 157 mm² (coarse),
-    M10×1.25 61.2 mm² (fine)."""
-    for size, area in (("M8", 36.6), ("M10", 58.0), ("M12", 84.3), ("M16", 157.0),
+    """ISO 898-1's stress areas: M8 36.6, M10 58.0, M12 84.3 mm² (coarse), M10×1.25 61.2,
+    M16×1.5 167 mm² (fine)."""
+    for size, area in (("M8", 36.6), ("M10", 58.0), ("M12", 84.3), ("M16x1.5", 167.0),
                        ("M10x1.25", 61.2)):
         index = [s[0] for s in rod.BOLT_SIZES].index(size) + 1
         found = rod.tensile_stress_area(rod.bolt_diameter(index), rod.bolt_pitch(index)) * 1e6

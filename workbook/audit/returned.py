@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from openpyxl.utils.cell import get_column_letter
 
+from crankbook.errors import WorkbookReadError
 from crankbook.reading import recalc
 from crankbook.reading.compare import allowances
 from crankbook.reading.verification import expected_values
@@ -59,17 +60,46 @@ def audit_workbook(path, workdir=None):
     loaded = load_named(path)
     book, spec, ranges = loaded[0], loaded[1], loaded[3]
     recalculated = saved_without_values(book, spec, ranges)
-    if recalculated:
-        with temporary_directory("audit", workdir) as tmp:
-            converted = recalc.convert([path], tmp)[0]
-            return _audit(loaded, load_named(converted), recalculated)
-    return _audit(loaded, loaded, recalculated)
+    try:
+        if recalculated:
+            with temporary_directory("audit", workdir) as tmp:
+                converted = recalc.convert([path], tmp)[0]
+                return _audit(loaded, load_named(converted), recalculated)
+        return _audit(loaded, loaded, recalculated)
+    except (IndexError, ValueError, ZeroDivisionError, OverflowError) as error:
+        # a damaged file whose grid or inputs still read as numbers (a grid of four
+        # rows where the template writes hundreds) cannot be recomputed: one line
+        raise WorkbookReadError(f"{path}: its grid or inputs are not what crankbook "
+                                f"writes ({type(error).__name__}); rebuild it") from None
+
+
+def _shape_findings(spec, ranges, grid_rows, sizes):
+    """A finding for each result name that covers other cells than the template's."""
+    out = []
+    for q in spec.quantities():
+        found = ranges.get(f"q_{q.key}")
+        if found is None:
+            continue
+        rows, cols = expected_shape(spec, q.key, grid_rows, sizes)
+        if (found.rows, found.cols) != (rows, cols):
+            out.append(CellFinding(f"'{found.sheet}'!…", f"q_{q.key}", None, math.nan,
+                                   f"covers {found.rows}×{found.cols} cells; the template "
+                                   f"gives it {rows}×{cols}"))
+    return out
 
 
 def _audit(original, calculated, recalculated):
     formula_book, formula_ranges = original[0], original[3]
     book, spec, template, ranges, values, tables, grids, sizes, grid_rows = calculated
-    expected, floors = expected_values(spec, values, tables, grids)
+    try:
+        expected, floors = expected_values(spec, values, tables, grids)
+    except (IndexError, ValueError, ZeroDivisionError, OverflowError):
+        # a name cut short (a grid of four rows) cannot be recomputed: its shape is
+        # the finding; with no name out of shape the caller refuses the file in a line
+        shapes = _shape_findings(spec, ranges, grid_rows, sizes)
+        if not shapes:
+            raise
+        return spec, shapes, recalculated, None
     rule_message = None
     if expected is None:
         # inputs that break a rule: one finding (the rule, and the status cell's words);
