@@ -66,7 +66,6 @@ import numpy as np
 
 OVERSPEED_FACTOR = 1.2          # the over-speed when none is typed: 1.2 × the design speed
 BOLT_CLEARANCE = 3e-3           # m: Khurmi & Gupta's clearance beside the bolt in the span
-CORE_FACTOR_TARGET = 6.0        # Khurmi & Gupta: the bolts' factor of safety on S_ut
 
 # metric threads: (name, nominal diameter mm, pitch mm) — the sizes rod bolts are made
 # in, ISO 261 coarse and fine
