@@ -196,8 +196,7 @@ def amplified_stress(load, area, length, radius_of_gyration, rankine_denominator
 
 def factor(capacity, demand):
     """capacity/demand; NaN where the demand is not positive [-]."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return float(capacity / demand) if demand > 0 else np.nan
+    return float(capacity / demand) if demand > 0 else np.nan
 
 
 def direct_stress(load, area):
