@@ -189,3 +189,30 @@ def bolt_class_not_in_table(bolt_property_class):
     # to one decimal, as the formula's ROUND: a typed 8.8 may come back 8.800000000000001
     return _flag(~np.isin(np.round(np.asarray(bolt_property_class, dtype=float), 1),
                           (8.8, 9.8, 10.9, 12.9)))
+
+
+def bearing_beyond_journals(check_bearing, throw):
+    """1 where the main bearing asked for is beyond the last main journal (throws + 1)."""
+    return _flag(np.asarray(check_bearing) > np.max(throw) + 1)
+
+
+def groove_too_wide(oil_groove_width, crankpin_length, main_journal_length):
+    """1 where the oil groove is as wide as a bearing is long: no film is left."""
+    return _flag((oil_groove_width >= crankpin_length) | (oil_groove_width >= main_journal_length))
+
+
+def clearance_too_large(bearing_clearance, crankpin_diameter, main_journal_diameter):
+    """1 where the radial clearance exceeds 1 % of a journal's diameter, ten times the
+    usual 0.05–0.1 %: no film forms in such a gap."""
+    return _flag(bearing_clearance * 100 > np.minimum(crankpin_diameter, main_journal_diameter))
+
+
+def clearance_implausible(bearing_clearance, crankpin_diameter, main_journal_diameter):
+    """1 where the radial clearance is below 0.02 % of a journal's diameter, a fifth
+    of the usual least: a clearance in mm typed into the µm cell."""
+    return _flag(bearing_clearance < 0.0002 * np.minimum(crankpin_diameter, main_journal_diameter))
+
+
+def viscosity_implausible(oil_viscosity):
+    """1 where the oil is thinner than 1 mPa·s (water at 20 °C): Pa·s typed for mPa·s."""
+    return _flag(np.asarray(oil_viscosity) < 1e-3)

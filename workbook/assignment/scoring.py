@@ -128,7 +128,7 @@ def unit_slips(unit):
     if dimension in ("ratio", "count", "percent"):
         return []
     out = []
-    for other in units.units_of(dimension):
+    for other in units.slip_units_of(dimension):
         factor = units.si_factor(unit) / units.si_factor(other)
         if other != unit and not math.isclose(factor, 1.0):
             out.append((other, factor))

@@ -129,6 +129,9 @@ class Evaluator:
         self.grids = _as_grid_dict(spec, grids)
         self.sizes = axis_sizes(spec, values)
         self.memo, self.shapes = {}, {}
+        # a calc function of several parts (the journal orbit's fourteen columns) runs
+        # once per evaluation: its parts share the function and the arguments' keys
+        self.whole = {}
 
     def is_known(self, key):
         spec = self.spec
@@ -162,8 +165,16 @@ class Evaluator:
 
     def call(self, q, kwargs):
         """``q``'s calc function on ``kwargs``, shaped as ``q`` is."""
-        with np.errstate(all="ignore"):
-            result = q.calc_function()(**kwargs)
+        shared = None
+        if q.part is not None and not q.is_grid:
+            shared = (q.calc, tuple(sorted(q.calc_arguments().items())), tuple(sorted(kwargs)))
+        if shared in self.whole:
+            result = self.whole[shared]
+        else:
+            with np.errstate(all="ignore"):
+                result = q.calc_function()(**kwargs)
+            if shared is not None:
+                self.whole[shared] = result
         if q.part is not None:
             result = named_part(result, q)
         if q.is_grid:

@@ -84,6 +84,12 @@ def units_of(dimension_name):
     return [u for u, e in _table().items() if e["dimension"] == dimension_name]
 
 
+def slip_units_of(dimension_name):
+    """The units of one dimension the grader takes a slip into (``slip = false``
+    leaves one out: µm beside mm)."""
+    return [u for u in units_of(dimension_name) if _table()[u].get("slip", True)]
+
+
 def convertible(source, target):
     return dimension(source) == dimension(target)
 

@@ -1,0 +1,392 @@
+"""The oil film of the big-end and main bearings: steady design numbers and the
+dynamically loaded journal's orbit by the mobility method.
+
+* **Steady numbers.**  Specific load p = F/(L·D) (the mean and the largest load of the
+  cycle), PV with the journal's sliding speed ω·D/2, the Sommerfeld number
+  S = (R/c)²·μ·N/p at the mean load (N in rev/s), and Petroff's friction coefficient
+  f = 2π²·(R/c)·μ·N/p.  The steady eccentricity at the mean load is the short
+  (Ocvirk) bearing's, S·(L/D)² = (1 − ε²)²/(π·ε·√(π²·(1 − ε²) + 16·ε²)), solved for ε
+  by bisection; h₀ = c·(1 − ε).  The short-bearing theory carries more load than a
+  finite bearing of the same L/D, so h₀ is optimistic above L/D ≈ ½.
+* **The orbit.**  Booker's mobility method: the film's reaction to the load F is the
+  journal's squeeze velocity relative to a frame turning at the mean angular velocity
+  ω̄ = (ω_journal + ω_bush)/2,
+
+      dε⃗/dt = F·(c/R)²/(μ·L·D) · M⃗(ε⃗, F̂) + ω̄ × ε⃗,
+
+  with M⃗ = M_ζ·F̂ + M_κ·F̂⊥ (F̂⊥ = F̂ turned 90° in the sense of rotation), ζ and κ the
+  eccentricity ratio's components along F̂ and F̂⊥.  M is Goenka's fit of the short
+  bearing's mobility, M_ζ = (1 − ζ)^2.5/(π·(L/D)²), M_κ = −4κ·(1 − ζ)^1.5/(π²·(L/D)²):
+  a short-bearing result, optimistic at high eccentricity.  The big end is solved in
+  the rod's frame, where the bush is still: ω̄ = (ω − ω_rod)/2 with ω_rod the rod's
+  own angular velocity in the crank's sense of rotation (= −dβ/dt), that is
+  (ω + dβ/dt)/2 — not ω/2, which puts the film some 40 % off.  A main bearing's bush
+  is the engine's: ω̄ = ω/2.  The eccentricity is carried from one 1° row to the next
+  by Heun's step (one predictor and one corrector evaluation of the mobility), over
+  two cycles from the centre; the first cycle is the start transient and the results
+  are read from the second.  A step that would reach ε ≥ 0.995 is scaled back to it
+  and the row is flagged: the film has broken down there.
+* **Friction.**  The Couette shear of a full film at the eccentricity ε,
+  P = 2π·μ·R³·L·Δω²/(c·√(1 − ε²)), Δω the journal's speed relative to the bush
+  (Petroff's torque for ε = 0); the load's own moment is not added.
+
+Units SI at the interface (m, N, Pa·s, rad/s, s); ε⃗ as fractions of c.
+
+References
+----------
+J. F. Booker, "Dynamically loaded journal bearings: mobility method of solution",
+*Trans. ASME, J. Basic Eng.* 87 (1965) 537–546.
+P. K. Goenka, "Analytical curve fits for solution parameters of dynamically loaded
+journal bearings", *Trans. ASME, J. Tribology* 106 (1984) 421–428 (the short-bearing
+mobility M_ζ, M_κ above).
+F. W. Ocvirk, "Short-bearing approximation for full journal bearings", NACA TN 2808
+(1952); B. J. Hamrock, S. R. Schmid, B. O. Jacobson, *Fundamentals of Fluid Film
+Lubrication*, 2nd ed. (2004), ch. 12 (the short bearing's load and attitude).
+R. G. Budynas, J. K. Nisbett, *Shigley's Mechanical Engineering Design*, 9th ed.,
+ch. 12: eq. (12-6) Petroff's friction, (12-7) the Sommerfeld number, Table 12-5 the
+unit loads in use (automotive engines: main 4–5 MPa, crankpin 10–15 MPa; diesel
+engines: main 6–12 MPa, crankpin 8–15 MPa).
+"""
+from typing import NamedTuple
+
+import numpy as np
+
+from crankbook.calc.multicylinder import at_angle
+
+ECCENTRICITY_LIMIT = 0.995      # the clamp; the template's constant holds the same
+BISECTION_STEPS = 50            # the steady solve's rows (2⁻⁵⁰ of the bracket)
+
+
+# ---------------------------------------------------------------- the bearings
+def bearing_count(throw):
+    """Two bearings are checked: the big end and one main bearing."""
+    return 2
+
+
+def bearing_diameter(crankpin_diameter, main_journal_diameter):
+    """D of each bearing (big end, main) [m]."""
+    return np.array([crankpin_diameter, main_journal_diameter], dtype=float)
+
+
+def bearing_length(crankpin_length, main_journal_length, oil_groove_width):
+    """Bearing length L less a circumferential groove's width (big end, main) [m]."""
+    return np.array([crankpin_length, main_journal_length], dtype=float) - oil_groove_width
+
+
+def length_ratio(bearing_length, bearing_diameter):
+    """L/D [-]."""
+    return bearing_length / bearing_diameter
+
+
+def checked_journal(check_bearing, journal_load_mean):
+    """The main bearing analysed: the one typed, else (0) the most loaded by mean
+    load, the first of equals [-]."""
+    if check_bearing > 0:
+        return float(check_bearing)
+    means = np.asarray(journal_load_mean, dtype=float)
+    return float(np.argmax(means >= means.max()) + 1)
+
+
+# ---------------------------------------------------------------- loads
+def big_end_load(tangential_force, radial_force, big_end_mass, crank_radius,
+                 angular_velocity, crank_angle_from_axis, rod_angle):
+    """The crank pin's load on the big-end bush in the rod's frame: u along the rod
+    toward the piston, v a quarter-turn on in the crank's sense of rotation (N,) twice
+    [N].  The pin load (tangential P_t in the sense of rotation, radial P_r toward the
+    crank centre, the big end's centrifugal force included) acts on the pin; the bush
+    feels it reversed: F_u = P_t·sin(ψ + β) + P_r·cos(ψ + β),
+    F_v = −P_t·cos(ψ + β) + P_r·sin(ψ + β) — the rod force itself on the u axis."""
+    pt = np.asarray(tangential_force, dtype=float)
+    pr = np.asarray(radial_force, dtype=float) - big_end_mass * crank_radius * angular_velocity ** 2
+    a = np.asarray(crank_angle_from_axis, dtype=float) + np.asarray(rod_angle, dtype=float)
+    return pt * np.sin(a) + pr * np.cos(a), -pt * np.cos(a) + pr * np.sin(a)
+
+
+class BearingLoad(NamedTuple):
+    """Each bearing's load in its bush's frame, u and v (N + 1, 2) [N]."""
+    u: np.ndarray
+    v: np.ndarray
+
+
+def bearing_loads(tangential_force, radial_force, big_end_mass, crank_radius,
+                  angular_velocity, crank_angle_from_axis, rod_angle, journal_load_x,
+                  journal_load_y, checked_journal):
+    """The big end's load in the rod's frame and the checked main bearing's in the
+    engine's, turned so that the crank's rotation is positive: u = the vertical
+    component, v = the horizontal one (the crank turns from +y to +x) [N]."""
+    bu, bv = big_end_load(tangential_force, radial_force, big_end_mass, crank_radius,
+                          angular_velocity, crank_angle_from_axis, rod_angle)
+    j = int(checked_journal) - 1
+    mu = np.asarray(journal_load_y, dtype=float)[:, j]
+    mv = np.asarray(journal_load_x, dtype=float)[:, j]
+    return BearingLoad(np.column_stack([np.ravel(bu), mu]), np.column_stack([np.ravel(bv), mv]))
+
+
+def mean_angular_velocity(angular_velocity, rod_angular_velocity):
+    """ω̄ in each bush's frame: (ω + dβ/dt)/2 for the big end, ω/2 for a main bearing
+    (N + 1, 2) [rad/s]."""
+    rod = np.ravel(np.asarray(rod_angular_velocity, dtype=float))
+    return np.column_stack([(angular_velocity + rod) / 2, np.full_like(rod, angular_velocity / 2)])
+
+
+# ---------------------------------------------------------------- steady numbers
+def specific_load(load, bearing_length, bearing_diameter):
+    """p = F/(L·D) [Pa]."""
+    return load / (bearing_length * bearing_diameter)
+
+
+def sliding_velocity(angular_velocity, bearing_diameter):
+    """The journal's surface speed relative to its bush, ω·D/2 [m/s] (a big end's
+    bush swings with the rod, which averages out over the cycle)."""
+    return angular_velocity * bearing_diameter / 2
+
+
+def pv(bearing_specific_load_mean, bearing_sliding_velocity):
+    """PV at the mean load [Pa·m/s]."""
+    return bearing_specific_load_mean * bearing_sliding_velocity
+
+
+def sommerfeld(bearing_diameter, bearing_clearance, oil_viscosity, angular_velocity,
+               bearing_specific_load_mean):
+    """S = (R/c)²·μ·N/p, N in rev/s (Shigley eq. 12-7) [-]."""
+    radius_ratio = bearing_diameter / 2 / bearing_clearance
+    return radius_ratio ** 2 * oil_viscosity * angular_velocity / (2 * np.pi) \
+        / bearing_specific_load_mean
+
+
+def petroff_friction(bearing_diameter, bearing_clearance, oil_viscosity, angular_velocity,
+                     bearing_specific_load_mean):
+    """Petroff's friction coefficient f = 2π²·(R/c)·μ·N/p (Shigley eq. 12-6) [-]."""
+    return 2 * np.pi ** 2 * (bearing_diameter / 2 / bearing_clearance) * oil_viscosity \
+        * angular_velocity / (2 * np.pi) / bearing_specific_load_mean
+
+
+def short_bearing_sommerfeld(eccentricity_ratio, length_ratio):
+    """The short (Ocvirk) bearing's Sommerfeld number at the eccentricity ratio ε:
+    S = (1 − ε²)²/(π·ε·√(π²·(1 − ε²) + 16·ε²)·(L/D)²) [-]."""
+    e = np.asarray(eccentricity_ratio, dtype=float)
+    return (1 - e ** 2) ** 2 / (np.pi * e * np.sqrt(np.pi ** 2 * (1 - e ** 2) + 16 * e ** 2)
+                                * length_ratio ** 2)
+
+
+class Bisection(NamedTuple):
+    """The steady solve's rows: bracket, midpoint and the short bearing's S there
+    (steps + 1, 2)."""
+    low: np.ndarray
+    high: np.ndarray
+    mid: np.ndarray
+    value: np.ndarray
+
+
+def steady_bisection(steady_step, sommerfeld, bearing_length_ratio):
+    """Bisection of S_short(ε) = S on 0 < ε < 1, one row per halving: row 0 is the
+    bracket (0, 1); row k keeps the half of row k − 1's bracket that holds the root
+    (S_short falls as ε grows)."""
+    rows = len(np.ravel(steady_step))
+    s = np.broadcast_to(np.asarray(sommerfeld, dtype=float), (2,)).astype(float)
+    low = np.zeros((rows, 2))
+    high = np.ones((rows, 2))
+    mid = np.empty((rows, 2))
+    value = np.empty((rows, 2))
+    for k in range(rows):
+        if k:
+            above = value[k - 1] > s
+            low[k] = np.where(above, mid[k - 1], low[k - 1])
+            high[k] = np.where(above, high[k - 1], mid[k - 1])
+        mid[k] = (low[k] + high[k]) / 2
+        value[k] = short_bearing_sommerfeld(mid[k], bearing_length_ratio)
+    return Bisection(low, high, mid, value)
+
+
+def steady_eccentricity(steady_step, sommerfeld, bearing_length_ratio):
+    """ε at the mean load: the last row's midpoint [-]."""
+    return steady_bisection(steady_step, sommerfeld, bearing_length_ratio).mid[-1]
+
+
+def film_from_eccentricity(eccentricity_ratio, bearing_clearance):
+    """h = c·(1 − ε) [m]."""
+    return bearing_clearance * (1 - eccentricity_ratio)
+
+
+# ---------------------------------------------------------------- the orbit
+def mobility_scale(bearing_diameter, bearing_length, bearing_clearance, oil_viscosity):
+    """(c/R)²/(μ·L·D): the squeeze rate per newton [1/(N·s)]."""
+    return (2 * bearing_clearance / bearing_diameter) ** 2 \
+        / (oil_viscosity * bearing_length * bearing_diameter)
+
+
+def time_step(orbit_step, angular_velocity):
+    """The time one orbit row spans, Δα/ω [s]."""
+    return orbit_step / angular_velocity
+
+
+def short_bearing_mobility(zeta, kappa, length_ratio):
+    """Goenka's short-bearing mobility (M_ζ, M_κ) [-]."""
+    return ((1 - zeta) ** 2.5 / (np.pi * length_ratio ** 2),
+            -4 * kappa * (1 - zeta) ** 1.5 / (np.pi ** 2 * length_ratio ** 2))
+
+
+def load_components(x, y, load_u, load_v):
+    """ζ and κ: the eccentricity ratio along the load and a quarter-turn on [-]."""
+    load = np.maximum(np.hypot(load_u, load_v), 1e-9)
+    return (x * load_u + y * load_v) / load, (y * load_u - x * load_v) / load
+
+
+def eccentricity_rate(x, y, load_u, load_v, mean_velocity, scale, length_ratio):
+    """dε⃗/dt (d(e_x/c)/dt, d(e_y/c)/dt) [1/s]."""
+    zeta, kappa = load_components(x, y, load_u, load_v)
+    m_zeta, m_kappa = short_bearing_mobility(zeta, kappa, length_ratio)
+    return (scale * (m_zeta * load_u - m_kappa * load_v) - mean_velocity * y,
+            scale * (m_zeta * load_v + m_kappa * load_u) + mean_velocity * x)
+
+
+def clamp_scale(x, y, limit=ECCENTRICITY_LIMIT):
+    """1, or the factor that brings |ε⃗| back to the limit [-]."""
+    return np.minimum(1.0, limit / np.maximum(np.hypot(x, y), 1e-12))
+
+
+class Orbit(NamedTuple):
+    """The orbit's columns, one row per orbit angle, one column per bearing."""
+    predictor_scale: np.ndarray
+    predictor_x: np.ndarray
+    predictor_y: np.ndarray
+    predictor_zeta: np.ndarray
+    predictor_kappa: np.ndarray
+    predictor_rate_x: np.ndarray
+    predictor_rate_y: np.ndarray
+    scale: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    zeta: np.ndarray
+    kappa: np.ndarray
+    rate_x: np.ndarray
+    rate_y: np.ndarray
+
+
+def journal_orbit(orbit_load_u, orbit_load_v, orbit_mean_velocity, orbit_time_step,
+                  bearing_mobility_scale, bearing_length_ratio,
+                  limit=ECCENTRICITY_LIMIT):
+    """Heun's step row by row from the centre: predictor ε⃗* = ε⃗ₖ₋₁ + h·ṙₖ₋₁ (scaled
+    back to the limit), corrector ε⃗ₖ = ε⃗ₖ₋₁ + h/2·(ṙₖ₋₁ + ṙ(ε⃗*, Fₖ)) (likewise), and
+    ṙₖ = ṙ(ε⃗ₖ, Fₖ) for the next row."""
+    fu = np.asarray(orbit_load_u, dtype=float)
+    fv = np.asarray(orbit_load_v, dtype=float)
+    w = np.broadcast_to(np.asarray(orbit_mean_velocity, dtype=float), fu.shape)
+    h = np.asarray(orbit_time_step, dtype=float)
+    s = np.asarray(bearing_mobility_scale, dtype=float)
+    ld = np.asarray(bearing_length_ratio, dtype=float)
+    cols = {name: np.zeros(fu.shape) for name in Orbit._fields}
+    cols["predictor_scale"][0] = cols["scale"][0] = 1.0
+    for k in range(fu.shape[0]):
+        c = {name: col[k] for name, col in cols.items()}
+        if k:
+            px = cols["x"][k - 1] + h * cols["rate_x"][k - 1]
+            py = cols["y"][k - 1] + h * cols["rate_y"][k - 1]
+            c["predictor_scale"][:] = clamp_scale(px, py, limit)
+            c["predictor_x"][:] = px * c["predictor_scale"]
+            c["predictor_y"][:] = py * c["predictor_scale"]
+        zeta, kappa = load_components(c["predictor_x"], c["predictor_y"], fu[k], fv[k])
+        c["predictor_zeta"][:], c["predictor_kappa"][:] = zeta, kappa
+        c["predictor_rate_x"][:], c["predictor_rate_y"][:] = eccentricity_rate(
+            c["predictor_x"], c["predictor_y"], fu[k], fv[k], w[k], s, ld)
+        if k:
+            x = cols["x"][k - 1] + h / 2 * (cols["rate_x"][k - 1] + c["predictor_rate_x"])
+            y = cols["y"][k - 1] + h / 2 * (cols["rate_y"][k - 1] + c["predictor_rate_y"])
+            c["scale"][:] = clamp_scale(x, y, limit)
+            c["x"][:] = x * c["scale"]
+            c["y"][:] = y * c["scale"]
+        zeta, kappa = load_components(c["x"], c["y"], fu[k], fv[k])
+        c["zeta"][:], c["kappa"][:] = zeta, kappa
+        c["rate_x"][:], c["rate_y"][:] = eccentricity_rate(
+            c["x"], c["y"], fu[k], fv[k], w[k], s, ld)
+    return Orbit(**cols)
+
+
+def clamped(orbit_predictor_scale, orbit_scale):
+    """1 on a row whose step was scaled back to the eccentricity limit [-]."""
+    return np.where((orbit_predictor_scale < 1) | (orbit_scale < 1), 1.0, 0.0)
+
+
+def film_thickness(orbit_eccentricity_x, orbit_eccentricity_y, bearing_clearance):
+    """h_min = c·(1 − |ε⃗|) on each row [m]."""
+    return bearing_clearance * (1 - np.hypot(orbit_eccentricity_x, orbit_eccentricity_y))
+
+
+def friction_power(orbit_eccentricity_x, orbit_eccentricity_y, orbit_mean_velocity,
+                   bearing_diameter, bearing_length, bearing_clearance, oil_viscosity):
+    """The full film's Couette shear loss 2π·μ·R³·L·Δω²/(c·√(1 − ε²)), Δω = 2ω̄ the
+    journal's speed relative to its bush [W]."""
+    e2 = np.asarray(orbit_eccentricity_x) ** 2 + np.asarray(orbit_eccentricity_y) ** 2
+    relative = 2 * np.asarray(orbit_mean_velocity, dtype=float)
+    return 2 * np.pi * oil_viscosity * (bearing_diameter / 2) ** 3 * bearing_length \
+        * relative ** 2 / (bearing_clearance * np.sqrt(1 - e2))
+
+
+# ---------------------------------------------------------------- results
+def _second_cycle(orbit_angle):
+    return np.ravel(np.asarray(orbit_angle, dtype=float)) >= 0
+
+
+def second_cycle_min(values, orbit_angle):
+    """The smallest value of each column over the second cycle [unit of values]."""
+    return np.asarray(values, dtype=float)[_second_cycle(orbit_angle)].min(axis=0)
+
+
+def second_cycle_max(values, orbit_angle):
+    """The largest value of each column over the second cycle [unit of values]."""
+    return np.asarray(values, dtype=float)[_second_cycle(orbit_angle)].max(axis=0)
+
+
+def second_cycle_mean(values, orbit_angle, cycle):
+    """The mean of each column over the second cycle, its closing row left out."""
+    angle = np.ravel(np.asarray(orbit_angle, dtype=float))     # rad, as cycle
+    rows = (angle >= 0) & (angle < cycle - 1e-9)
+    return np.asarray(values, dtype=float)[rows].mean(axis=0)
+
+
+def angle_of_min(values, orbit_angle, tolerance):
+    """The first angle of the second cycle where a column comes within ``tolerance``
+    of its smallest value [unit of orbit_angle]."""
+    angle = np.ravel(np.asarray(orbit_angle, dtype=float))
+    v = np.asarray(values, dtype=float)
+    second = angle >= 0
+    low = v[second].min(axis=0)
+    hit = second[:, None] & (v <= low + tolerance)
+    return angle[np.argmax(hit, axis=0)]
+
+
+def count_clamped(orbit_clamped, orbit_angle):
+    """Rows of the second cycle whose film broke down (ε held at the limit) [-]."""
+    return np.asarray(orbit_clamped, dtype=float)[_second_cycle(orbit_angle)].sum(axis=0)
+
+
+def film_ok(bearing_min_film, min_film_allowable, orbit_clamped_rows):
+    """1 when every bearing's smallest film reaches the allowable and none broke down."""
+    ok = np.all(np.asarray(bearing_min_film) >= min_film_allowable) \
+        and np.all(np.asarray(orbit_clamped_rows) == 0)
+    return 1.0 if ok else 0.0
+
+
+def orbit_series(series, crank_angle, orbit_angle, cycle):
+    """A per-bearing series of the crank-angle grid read at each orbit angle, the
+    nearest grid point of one period (as the sheet's INDEX(…, MOD(…)))
+    (rows of orbit_angle, 2)."""
+    values = np.asarray(series, dtype=float)
+    angle = np.ravel(np.asarray(orbit_angle, dtype=float))
+    return np.column_stack([at_angle(values[:, j], crank_angle, angle, cycle)
+                            for j in range(values.shape[1])])
+
+
+def eccentricity_from_film(film, bearing_clearance):
+    """ε = 1 − h/c [-]."""
+    return 1 - film / bearing_clearance
+
+
+def least(values):
+    """The smallest of the values [their unit]."""
+    return float(np.min(values))
+
+
+def total(values):
+    """The sum of the values [their unit]."""
+    return float(np.sum(values))
