@@ -390,3 +390,13 @@ def least(values):
 def total(values):
     """The sum of the values [their unit]."""
     return float(np.sum(values))
+
+
+def circle_x(orbit_angle):
+    """The clearance circle drawn over the second cycle, cos(φ/2) [-]."""
+    return np.cos(np.asarray(orbit_angle, dtype=float) / 2)
+
+
+def circle_y(orbit_angle):
+    """sin(φ/2) [-]."""
+    return np.sin(np.asarray(orbit_angle, dtype=float) / 2)

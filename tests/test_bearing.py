@@ -193,3 +193,53 @@ def test_a_larger_clearance_thins_the_big_ends_film_at_its_peak_load():
 ])
 def test_bad_bearing_inputs_are_one_line(tmp_path, values, words):
     assert_build_refused_in_one_line(tmp_path, "thesis", values, words)
+
+
+def test_the_orbit_file_is_the_workbooks_second_cycle(tmp_path):
+    """`export bearing`: one row per angle of the second cycle and bearing, the film
+    c·(1 − |e/c|) of the row's own components, as the workbook holds them."""
+    import csv
+    from crankbook.writer import bearing_csv
+    r = crankbook.compute("thesis")
+    path = bearing_csv.write(r, tmp_path / "orbit.csv")
+    with open(path, encoding="utf-8-sig", newline="") as handle:
+        table = list(csv.reader(handle))
+    assert table[0][:5] == ["crank angle [deg]", "bearing", "e_u/c", "e_v/c", "h_min [um]"]
+    body = table[1:]
+    assert len(body) == 2 * 721
+    c = float(r["bearing_clearance"])
+    for angle, name, x, y, film, broke in body[::97]:
+        assert 0 <= float(angle) <= 720 and name in ("big end", f"main {int(r['checked_journal'])}")
+        assert float(film) == pytest.approx(c * (1 - math.hypot(float(x), float(y))), abs=1e-5)
+    films = np.array([float(row[4]) for row in body]).reshape(-1, 2)
+    assert np.allclose(films.min(axis=0), np.asarray(r["bearing_min_film"]), atol=1e-6)
+
+
+def test_export_bearing_without_a_workbook_is_one_line(tmp_path):
+    import subprocess
+    import sys
+    run = subprocess.run([sys.executable, "-m", "crankbook", "export", "bearing", "-o",
+                          str(tmp_path / "o.csv")], capture_output=True, text=True)
+    assert run.returncode == 2 and "needs the engine WORKBOOK" in run.stderr
+    assert "Traceback" not in run.stderr and not (tmp_path / "o.csv").exists()
+
+
+def test_the_orbit_chart_draws_the_second_cycle_only(tmp_path):
+    """rows_from = 0: every range of the orbit chart (the orbits, the clearance circle
+    and the equal-axis frame's sources) starts at the row of 0°, the start transient
+    left out, and the cached points are the 721 of the second cycle."""
+    import re
+    import zipfile
+    from crankbook.writer.layout import FIRST_ROW
+    path = crankbook.compute("thesis").to_excel(tmp_path / "t.xlsx", lang="en")
+    with zipfile.ZipFile(path) as book:
+        charts = [book.read(n).decode() for n in book.namelist()
+                  if n.startswith("xl/charts/chart")]
+    orbit = [c for c in charts if "Journal orbit e/c" in c]
+    assert len(orbit) == 2                            # on its sheet and on the Charts sheet
+    for chart in orbit:
+        refs = re.findall(r"<c:f>'Journal orbit'!\$[A-Z]+\$(\d+):\$[A-Z]+\$(\d+)</c:f>", chart)
+        grid = [(int(a), int(b)) for a, b in refs if int(b) == FIRST_ROW + 1440 + 1]
+        assert len(grid) == 6                         # two orbits and the circle, x and y
+        assert {first for first, _ in grid} == {FIRST_ROW + 1 + 720}
+        assert set(re.findall(r'<c:ptCount val="(\d+)"/>', chart)) >= {"721"}

@@ -222,6 +222,14 @@ def test_a_charts_curve_count_is_a_whole_number(curves):
         from_data(data)
 
 
+@pytest.mark.parametrize("rows_from", ["0", True, [0.0]])
+def test_a_charts_first_row_is_a_grid_value(rows_from):
+    data = _minimal()
+    data["sheet"][0]["charts"] = [{"y": ["x"], "rows_from": rows_from}]
+    with pytest.raises(SpecError, match="s: chart: rows_from must be a value of the sheet's grid"):
+        from_data(data)
+
+
 @pytest.mark.parametrize("extra", [{}, {"axis": "cylinder", "default": [1.0, 2.0]},
                                    {"axis": "cylinder", "default": 1.0}])
 def test_a_fill_parameter_has_an_axis_and_one_value(extra):

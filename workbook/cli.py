@@ -161,20 +161,24 @@ def _build_parser():
 
     export = commands.add_parser(
         "export", help="write a workbook's data for another tool (torsion: stations.csv, "
-                       "harmonics.csv, response.csv; trace: a pressure trace --pressure reads)",
+                       "harmonics.csv, response.csv; trace: a pressure trace --pressure reads; "
+                       "bearing: the journal orbits)",
         description="export torsion WORKBOOK -o DIR: the torsional system (station, J, k to "
                     "the next) and each cylinder's torque harmonics a_k, b_k in the common "
                     "crank angle, total, gas and inertia parts, at the workbook's speed, "
                     "and the forced response over its speed sweep (speed, order, section, "
                     "torque amplitude, stress), read from an engine workbook's names as stored. export trace [WORKBOOK] "
                     "-o FILE.csv: its cylinder pressure (without WORKBOOK: the thesis "
-                    "engine's) as a trace file for build --pressure.")
-    export.add_argument("what", choices=("torsion", "trace"), help="what to export")
+                    "engine's) as a trace file for build --pressure. export bearing WORKBOOK "
+                    "-o FILE.csv: the big end's and the checked main bearing's journal orbits "
+                    "over the second cycle (crank angle, bearing, e_u/c, e_v/c, h_min in µm, "
+                    "film broke down).")
+    export.add_argument("what", choices=("torsion", "trace", "bearing"), help="what to export")
     export.add_argument("workbook", metavar="WORKBOOK", nargs="?",
                         help="an engine workbook crankbook wrote (trace: optional)")
     export.add_argument("-o", "--output", required=True, metavar="DIR|FILE.csv",
                         help="torsion: the folder for stations.csv, harmonics.csv and response.csv; "
-                             "trace: the .csv file")
+                             "trace, bearing: the .csv file")
 
     check = commands.add_parser(
         "check", help="for students: would the grader read this workbook in full?",
@@ -434,7 +438,13 @@ def _export(args):
               f"{args.workbook or 'the thesis engine'} (crank angle °, MPa absolute)")
         return 0
     if not args.workbook:
-        raise BuildOptionError("export torsion needs the engine WORKBOOK to read")
+        raise BuildOptionError(f"export {args.what} needs the engine WORKBOOK to read")
+    if args.what == "bearing":
+        from crankbook.writer import bearing_csv
+        path = bearing_csv.write(crankbook.read(args.workbook), args.output)
+        print(f"wrote {path}: the journal orbits of the big end and the checked main bearing "
+              f"over the second cycle (short-bearing mobility: optimistic at high eccentricity)")
+        return 0
     results = crankbook.read(args.workbook)
     write(results, args.output, source=args.workbook)
     speed = results.parameters["speed"]

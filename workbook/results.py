@@ -138,6 +138,12 @@ class Results:
         from crankbook.writer.torsion_csv import write
         return write(self, directory)
 
+    def to_bearing_csv(self, path):
+        """Write the two bearings' journal orbits over the second cycle to ``path`` (a
+        .csv); see crankbook.writer.bearing_csv."""
+        from crankbook.writer.bearing_csv import write
+        return write(self, path)
+
     def to_excel(self, path, lang="zh"):
         """Write the formula-backed workbook the command line writes; return its path."""
         from crankbook.writer.build import write_workbook

@@ -298,7 +298,7 @@ def _chart(entry, sheet_entry, file):
         entry = {"y": list(entry)}
     known = {"y", "x", "x_each", "title_zh", "title_en", "axis_zh", "axis_en", "unit", "x_axis_zh",
              "x_axis_en", "x_unit", "equal_axes", "type", "log", "curve_zh", "curve_en", "curves",
-             "live_names", "emphasis", "heavy"}
+             "live_names", "emphasis", "heavy", "rows_from"}
     unknown = set(entry) - known
     if unknown:
         raise SpecError(file, sheet_entry["key"], f"chart: unknown field(s) "
@@ -307,6 +307,11 @@ def _chart(entry, sheet_entry, file):
     if curves is not None and (type(curves) is not int or curves < 1):
         raise SpecError(file, sheet_entry["key"], f"chart: curves must be a whole number "
                                                   f"of items, at least 1 (not {curves!r})")
+    rows_from = entry.get("rows_from")
+    if rows_from is not None and (not isinstance(rows_from, (int, float)) or
+                                  isinstance(rows_from, bool)):
+        raise SpecError(file, sheet_entry["key"], f"chart: rows_from must be a value of the "
+                                                  f"sheet's grid (not {rows_from!r})")
     return Chart(y=tuple(entry["y"]), x=entry.get("x"), x_each=tuple(entry.get("x_each", ())),
                  title_zh=entry.get("title_zh", sheet_entry.get("title_zh", "")),
                  title_en=entry.get("title_en", sheet_entry.get("title_en", "")),
@@ -318,7 +323,8 @@ def _chart(entry, sheet_entry, file):
                  type=entry.get("type", "scatter"), log=_chart_log(entry, sheet_entry, file),
                  curve_zh=entry.get("curve_zh", ""), curve_en=entry.get("curve_en", ""),
                  curves=entry.get("curves"), live_names=bool(entry.get("live_names", False)),
-                 emphasis=entry.get("emphasis"), heavy=tuple(entry.get("heavy", ())))
+                 emphasis=entry.get("emphasis"), heavy=tuple(entry.get("heavy", ())),
+                 rows_from=None if rows_from is None else float(rows_from))
 
 
 def _adopted_rules(data):

@@ -256,6 +256,8 @@ class Chart:
                                   # curve in the legend, 1 = thin grey, 0 = thin grey dashed
                                   # (1 and 0 leave the legend)
     heavy: tuple = ()             # y keys whose curves are drawn thick and dashed
+    rows_from: float | None = None  # draw the rows from this value of the sheet's grid on
+                                    # (the orbit's second cycle, not its start transient)
 
 
 @dataclass(frozen=True)

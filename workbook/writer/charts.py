@@ -17,7 +17,7 @@ MUTED = "#A6A6A6"          # an emphasis below 2: a grey line behind the bold on
 GRIDLINES = {"visible": True, "line": {"color": "#D9D9D9"}}
 
 
-def _ranges(layout, key, short=False, chart_spec=None, results=None):
+def _ranges(layout, key, short=False, chart_spec=None, results=None, skip=0):
     """(name, range) of each curve of a series: one, or one per item (named by the item
     alone when ``short``: the curves of a polar diagram; "<curve> n" where the chart
     names its curves, and only its first ``curves`` items; by the item's value, "k = 3",
@@ -29,7 +29,8 @@ def _ranges(layout, key, short=False, chart_spec=None, results=None):
         cells = xl_range_abs(place.row, place.col, place.row + place.count - 1, place.col)
         return [(label(quantity, layout.lang), f"{quote_sheet(place.sheet)}!{cells}")]
     if not quantity.items:
-        return [(label(quantity, layout.lang), locator.column_range(key))]
+        first = layout.locator.grid_rows[place.grid][0] + skip
+        return [(label(quantity, layout.lang), locator.column_range(key, first=first))]
     count = place.count if chart_spec is None or chart_spec.curves is None else \
         min(place.count, chart_spec.curves)
     curve = chart_spec and (chart_spec.curve_zh if layout.lang == "zh" else chart_spec.curve_en)
@@ -39,8 +40,9 @@ def _ranges(layout, key, short=False, chart_spec=None, results=None):
              axis.label(layout.lang, i + 1, float(np.ravel(results[named_by])[i])) if named_by
              else layout.item_label(quantity.items, layout.lang, i + 1, quantity.item_word)
              for i in range(count)]
+    first = layout.locator.grid_rows[place.grid][0] + skip
     return [(words[i] if short or curve else f"{label(quantity, layout.lang)} — {words[i]}",
-             locator.column_range(key, col=place.col + i)) for i in range(count)]
+             locator.column_range(key, first=first, col=place.col + i)) for i in range(count)]
 
 
 FRAME_INTERVALS = 6        # a frame spans about this many steps of a round size
@@ -226,6 +228,21 @@ class Points(list):
     xml = None
 
 
+def _skipped_rows(spec, sheet_spec, chart_spec):
+    """The rows before the chart's ``rows_from`` value of its sheet's numeric grid."""
+    if chart_spec.rows_from is None:
+        return 0
+    grid = spec.quantity[sheet_spec.grid]
+    return max(0, int(round((chart_spec.rows_from - grid.start) / grid.step)))
+
+
+def _from_row(values, skip):
+    """A series' values from row ``skip`` on (the values themselves when 0)."""
+    if not skip or not isinstance(values, np.ndarray) or values.ndim == 0:
+        return values
+    return values[skip:]
+
+
 _POINTS = weakref.WeakKeyDictionary()    # numpy array -> {column: Points}
 
 
@@ -252,10 +269,12 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
     own_x = bool(chart_spec.x or chart_spec.x_each)      # not the sheet's grid
     x_q = spec.quantity.get(x_key) or spec.parameter[x_key]     # an items sheet's input too
     kind = "column" if chart_spec.type == "column" else "scatter"
+    skip = _skipped_rows(spec, sheet_spec, chart_spec)
     chart = book.add_chart({"type": kind} if kind == "column" else
                            {"type": "scatter", "subtype": "straight"})
-    x_ranges = _ranges(layout, x_key) if own_x else \
-        [(None, f"{quote_sheet(sheet)}!$A${FIRST_ROW + 1}:$A${layout.last_row(sheet_spec.grid) + 1}")]
+    x_ranges = _ranges(layout, x_key, skip=skip) if own_x else \
+        [(None, f"{quote_sheet(sheet)}!$A${FIRST_ROW + 1 + skip}:"
+                f"$A${layout.last_row(sheet_spec.grid) + 1}")]
     curves, xs, ys, used_x, used_y = 0, [], [], [], []
     unnamed = []                       # curves the legend leaves out (emphasis below 2)
     if chart_spec.live_names:
@@ -265,17 +284,17 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
     for number, key in enumerate(chart_spec.y):
         if chart_spec.x_each:             # each curve its own x (a cam's two profiles)
             x_key = chart_spec.x_each[number]
-            x_ranges = _ranges(layout, x_key)
+            x_ranges = _ranges(layout, x_key, skip=skip)
         for index, (name, values) in enumerate(_ranges(layout, key,
                                                         short=own_x,
                                                         chart_spec=chart_spec,
-                                                        results=results)):
+                                                        results=results, skip=skip)):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
-            y_source = results[key]
+            y_source = _from_row(results[key], skip)
             y = np.asarray(y_source, dtype=float)
             y_column = None if y.ndim == 1 else index
             y = y if y_column is None else y[:, index]
-            x_source = results.get(x_key, [])
+            x_source = _from_row(results.get(x_key, []), skip)
             x = np.asarray(x_source, dtype=float)
             x_column = None if x.ndim == 1 else index
             x = x if x_column is None else x[:, index]
