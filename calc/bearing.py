@@ -80,11 +80,12 @@ def length_ratio(bearing_length, bearing_diameter):
 
 def checked_journal(check_bearing, journal_load_mean):
     """The main bearing analysed: the one typed, else (0) the most loaded by mean
-    load, the first of equals [-]."""
+    load, the first within 1e-9 of the largest (a single throw's two journals carry
+    the same load up to rounding, which differs between engines) [-]."""
     if check_bearing > 0:
         return float(check_bearing)
     means = np.asarray(journal_load_mean, dtype=float)
-    return float(np.argmax(means >= means.max()) + 1)
+    return float(np.argmax(means >= means.max() * (1 - 1e-9)) + 1)
 
 
 # ---------------------------------------------------------------- loads
