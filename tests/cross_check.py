@@ -46,12 +46,20 @@ WORKBOOKS = {
                                     "bolt_thread_rolled": 0.0, "overspeed": 2900.0,
                                     "bolt_joint_constant_typed": 0.25, "bolt_size": "M10x1",
                                     "bolt_property_class": 8.8, "bolt_span_typed": 70.0,
+                                    # the second main bearing, a wider gap, thinner
+                                    # oil and a groove (issue 45)
+                                    "check_bearing": 2.0, "bearing_clearance": 45.0,
+                                    "oil_viscosity": 6.0, "oil_groove_width": 3.0,
                                     "station_inertia_typed": [0.3, 1.2, 0.7],
                                     "section_stiffness_typed": [2.0e5, 3.5e5],
                                     "holzer_step": 1.0}},
     # … and a Holzer grid too fine to reach the first mode: blank, and the status says why
     # … and a bush that turns loose when warm: its fit check blank, the rod failed
+    # … and a 200 µm gap with 2 mPa·s oil whose big-end film breaks down: rows held
+    # at the eccentricity limit, flagged
     "thesis_edit_exact": {"edit_of": "thesis_step3", "edits": {"exact_kinematics": 1.0, "speed": 6100.0,
+                                                                "bearing_clearance": 200.0,
+                                                                "oil_viscosity": 2.0,
                                                                 "holzer_step": 0.001,
                                                                 "bush_interference": 0.0,
                                                                 "bush_expansion": 6.0}},
@@ -129,6 +137,7 @@ WORKBOOKS = {
                                          "alternative_stroke": 104.0, "counterweights": 1.0,
                                          "exhaust_valve_opening": 480.0}},
     "inline4_check_throw3": {"args": ["--preset", "inline-4", "--set", "check_throw=3",
+                                      "--set", "check_bearing=3",
                                       "--set", "counterweights=1", "--step", "4",
                                       "--set", "operating_speed=1500,4000,6500"]},
     "inline4_invalid_throw": {"edit_of": "inline4", "edits": {"throw": [1.0, 1.0, 3.0, 4.0]},

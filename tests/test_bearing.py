@@ -243,3 +243,13 @@ def test_the_orbit_chart_draws_the_second_cycle_only(tmp_path):
         assert len(grid) == 6                         # two orbits and the circle, x and y
         assert {first for first, _ in grid} == {FIRST_ROW + 1 + 720}
         assert set(re.findall(r'<c:ptCount val="(\d+)"/>', chart)) >= {"721"}
+
+
+def test_a_wide_gap_and_thin_oil_break_the_big_ends_film():
+    """200 µm and 2 mPa·s at 6100 r/min: rows held at ε = 0.995 are counted, the
+    smallest film is c·(1 − 0.995) and the verdict fails."""
+    r = crankbook.compute("thesis", bearing_clearance=200.0, oil_viscosity=2.0, speed=6100.0)
+    rows = np.asarray(r["orbit_clamped_rows"], dtype=float)
+    assert rows[0] > 0 and float(r["bearing_broken_rows"]) == rows.sum()
+    assert float(np.asarray(r["bearing_min_film"])[0]) == pytest.approx(200.0 * 0.005)
+    assert float(r["bearing_ok"]) == 0.0

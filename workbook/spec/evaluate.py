@@ -167,7 +167,10 @@ class Evaluator:
         """``q``'s calc function on ``kwargs``, shaped as ``q`` is."""
         shared = None
         if q.part is not None and not q.is_grid:
-            shared = (q.calc, tuple(sorted(q.calc_arguments().items())), tuple(sorted(kwargs)))
+            # the arguments' shapes follow the consumer (a per-item series gets (N, 1)
+            # columns): its kind is part of what the parts share
+            shared = (q.calc, tuple(sorted(q.calc_arguments().items())), tuple(sorted(kwargs)),
+                      q.items, q.is_series, q.grid)
         if shared in self.whole:
             result = self.whole[shared]
         else:
