@@ -42,6 +42,9 @@ mobility M_ζ, M_κ above).
 F. W. Ocvirk, "Short-bearing approximation for full journal bearings", NACA TN 2808
 (1952); B. J. Hamrock, S. R. Schmid, B. O. Jacobson, *Fundamentals of Fluid Film
 Lubrication*, 2nd ed. (2004), ch. 12 (the short bearing's load and attitude).
+B. Yu, J. T. Sawicki, "Comparison of mobility method and mass conservation method in
+a study of dynamically loaded journal bearings", *Int. J. Rotating Machinery* 8 (2002)
+71–79 (the mobility method overestimates the minimum film: optimistic).
 R. G. Budynas, J. K. Nisbett, *Shigley's Mechanical Engineering Design*, 9th ed.,
 ch. 12: eq. (12-6) Petroff's friction, (12-7) the Sommerfeld number, Table 12-5 the
 unit loads in use (automotive engines: main 4–5 MPa, crankpin 10–15 MPa; diesel
