@@ -54,8 +54,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from crankbook.calc.multicylinder import at_angle
-
 ECCENTRICITY_LIMIT = 0.995      # the clamp; the template's constant holds the same
 BISECTION_STEPS = 50            # the steady solve's rows (2⁻⁵⁰ of the bracket)
 
@@ -371,14 +369,34 @@ def film_ok(bearing_min_film, min_film_allowable, orbit_clamped_rows):
     return 1.0 if ok else 0.0
 
 
+def crank_step(crank_angle):
+    """The crank-angle grid's step [rad]."""
+    grid = np.ravel(np.asarray(crank_angle, dtype=float))
+    return (grid[-1] - grid[0]) / (grid.size - 1)
+
+
 def orbit_series(series, crank_angle, orbit_angle, cycle):
-    """A per-bearing series of the crank-angle grid read at each orbit angle, the
-    nearest grid point of one period (as the sheet's INDEX(…, MOD(…)))
-    (rows of orbit_angle, 2)."""
+    """A per-bearing series of the crank-angle grid read at each orbit angle, linear
+    between the grid's points (a 4° grid feeds the 1° orbit smoothly, and no angle
+    halfway between two points depends on how an engine rounds the tie)
+    (rows of orbit_angle, 2).  NaN where the crank-angle grid is not one regular
+    cycle (the grader's sample angles)."""
     values = np.asarray(series, dtype=float)
-    angle = np.ravel(np.asarray(orbit_angle, dtype=float))
-    return np.column_stack([at_angle(values[:, j], crank_angle, angle, cycle)
-                            for j in range(values.shape[1])])
+    values = values.reshape(values.shape[0], -1)
+    grid = np.round(np.degrees(np.ravel(np.asarray(crank_angle, dtype=float))), 9)
+    angle = np.round(np.degrees(np.ravel(np.asarray(orbit_angle, dtype=float))), 9)
+    period = np.degrees(cycle)
+    step = (grid[-1] - grid[0]) / (grid.size - 1) if grid.size > 1 else 0.0
+    if step <= 0 or not np.allclose(np.diff(grid), step) or grid[0] != 0 or \
+            abs(grid[-1] - period) > 1e-6:
+        return np.full((angle.size, values.shape[1]), np.nan)
+    points = int(round(period / step))
+    ratio = angle / step                    # as the sheet: φ/Δ, INT, and the fraction
+    lower = np.floor(ratio)
+    fraction = ratio - lower
+    low = np.mod(lower, points).astype(int)
+    high = np.mod(lower + 1, points).astype(int)
+    return values[low] * (1 - fraction[:, None]) + values[high] * fraction[:, None]
 
 
 def eccentricity_from_film(film, bearing_clearance):

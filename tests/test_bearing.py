@@ -253,3 +253,18 @@ def test_a_wide_gap_and_thin_oil_break_the_big_ends_film():
     assert rows[0] > 0 and float(r["bearing_broken_rows"]) == rows.sum()
     assert float(np.asarray(r["bearing_min_film"])[0]) == pytest.approx(200.0 * 0.005)
     assert float(r["bearing_ok"]) == 0.0
+
+
+def test_a_coarse_grid_feeds_the_orbit_linearly():
+    """On a 4° grid the 1° orbit reads each load linearly between grid points: 2° past
+    a point is the mean of its two neighbours (not a tie an engine rounds either way),
+    and the grid points themselves are the grid's values."""
+    r = crankbook.compute("thesis", step=4)
+    load = np.asarray(r["bearing_load_u"], dtype=float)
+    orbit = np.asarray(r["orbit_load_u"], dtype=float)
+    angle = np.asarray(r["orbit_angle"], dtype=float)
+    at = {a: k for k, a in enumerate(angle)}
+    assert np.allclose(orbit[at[8.0]], load[2]) and np.allclose(orbit[at[-712.0]], load[2])
+    assert np.allclose(orbit[at[10.0]], (load[2] + load[3]) / 2)
+    assert np.allclose(orbit[at[9.0]], 0.75 * load[2] + 0.25 * load[3])
+    assert float(r["crank_step"]) == pytest.approx(4.0)
