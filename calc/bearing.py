@@ -55,7 +55,6 @@ from typing import NamedTuple
 import numpy as np
 
 ECCENTRICITY_LIMIT = 0.995      # the clamp; the template's constant holds the same
-BISECTION_STEPS = 50            # the steady solve's rows (2⁻⁵⁰ of the bracket)
 
 
 # ---------------------------------------------------------------- the bearings
