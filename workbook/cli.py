@@ -172,7 +172,7 @@ def _build_parser():
                     "engine's) as a trace file for build --pressure. export bearing WORKBOOK "
                     "-o FILE.csv: the big end's and the checked main bearing's journal orbits "
                     "over the second cycle (crank angle, bearing, e_u/c, e_v/c, h_min in µm, "
-                    "film broke down).")
+                    "p_max in MPa, film broke down).")
     export.add_argument("what", choices=("torsion", "trace", "bearing"), help="what to export")
     export.add_argument("workbook", metavar="WORKBOOK", nargs="?",
                         help="an engine workbook crankbook wrote (trace: optional)")
