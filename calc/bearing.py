@@ -7,7 +7,11 @@ dynamically loaded journal's orbit by the mobility method.
   f = 2π²·(R/c)·μ·N/p.  The steady eccentricity at the mean load is the short
   (Ocvirk) bearing's, S·(L/D)² = (1 − ε²)²/(π·ε·√(π²·(1 − ε²) + 16·ε²)), solved for ε
   by bisection; h₀ = c·(1 − ε).  The short-bearing theory carries more load than a
-  finite bearing of the same L/D, so h₀ is optimistic above L/D ≈ ½.
+  finite bearing of the same L/D, so h₀ is optimistic above L/D ≈ ½.  The finite
+  bearing's h₀/c and friction variable (R/c)·f at the mean load come from Raimondi and
+  Boyd's tables for L/D = ∞, 1, ½, ¼, each read linearly in log₁₀ S (the charts'
+  scale) and held at the tables' ends, blended for the bearing's L/D by their cubic
+  interpolation formula.
 * **The orbit.**  Booker's mobility method: the film's reaction to the load F is the
   journal's squeeze velocity relative to a frame turning at the mean angular velocity
   ω̄ = (ω_journal + ω_bush)/2,
@@ -50,8 +54,12 @@ Lubrication*, 2nd ed. (2004), ch. 12 (the short bearing's load and attitude).
 B. Yu, J. T. Sawicki, "Comparison of mobility method and mass conservation method in
 a study of dynamically loaded journal bearings", *Int. J. Rotating Machinery* 8 (2002)
 71–79 (the mobility method overestimates the minimum film: optimistic).
+A. A. Raimondi, J. Boyd, "A solution for the finite journal bearing and its
+application to analysis and design", parts I–III, *ASLE Trans.* 1 (1958) 159–209 (the
+full bearing's design tables).
 R. G. Budynas, J. K. Nisbett, *Shigley's Mechanical Engineering Design*, 9th ed.,
-ch. 12: eq. (12-6) Petroff's friction, (12-7) the Sommerfeld number, Table 12-5 the
+ch. 12: eq. (12-6) Petroff's friction, (12-7) the Sommerfeld number, (12-16) Raimondi
+and Boyd's interpolation for any L/D, Examples 12-1 and 12-2, Table 12-5 the
 unit loads in use (automotive engines: main 4–5 MPa, crankpin 10–15 MPa; diesel
 engines: main 6–12 MPa, crankpin 8–15 MPa).
 """
@@ -207,6 +215,121 @@ def steady_bisection(steady_step, sommerfeld, bearing_length_ratio):
 def steady_eccentricity(steady_step, sommerfeld, bearing_length_ratio):
     """ε at the mean load: the last row's midpoint [-]."""
     return steady_bisection(steady_step, sommerfeld, bearing_length_ratio).mid[-1]
+
+
+# Raimondi and Boyd's finite journal bearing, full (360°) bush, Reynolds' film rupture:
+# (h₀/c, S, (R/c)·f) for L/D = ∞, 1, ½, ¼, each in the order of rising S.  The L/D = ∞
+# table has no h₀/c = 0.03 row.  Raimondi & Boyd (1958), Part III, the design tables.
+RAIMONDI_BOYD = (
+    ("∞", ((0.1, 0.0115, 0.756), (0.2, 0.021, 0.961), (0.4, 0.0389, 1.20),
+           (0.6, 0.0626, 1.52), (0.8, 0.123, 2.57), (0.9, 0.240, 4.80))),
+    ("1", ((0.03, 0.00474, 0.514), (0.1, 0.0188, 1.05), (0.2, 0.0446, 1.70),
+           (0.4, 0.121, 3.22), (0.6, 0.264, 5.79), (0.8, 0.631, 12.8), (0.9, 1.33, 26.4))),
+    ("1/2", ((0.03, 0.00609, 0.610), (0.1, 0.0313, 1.60), (0.2, 0.0923, 3.26),
+             (0.4, 0.319, 8.10), (0.6, 0.779, 17.0), (0.8, 2.03, 40.9), (0.9, 4.31, 85.6))),
+    ("1/4", ((0.03, 0.0101, 0.922), (0.1, 0.0736, 3.50), (0.2, 0.261, 8.80),
+             (0.4, 1.07, 26.7), (0.6, 2.83, 61.1), (0.8, 7.57, 153.0), (0.9, 16.2, 322.0))),
+)
+_RB_ROWS = np.array([(t + 1, *row) for t, (_, rows) in enumerate(RAIMONDI_BOYD)
+                     for row in rows])          # table number, h₀/c, S, (R/c)·f
+
+
+def raimondi_boyd_rows():
+    """The number of rows of the stacked tables [-]."""
+    return len(_RB_ROWS)
+
+
+def _rb_column(rb_row, column):
+    return _RB_ROWS[np.asarray(rb_row, dtype=int) - 1, column]
+
+
+def rb_table(rb_row):
+    """The table a row belongs to: 1 = L/D ∞, 2 = 1, 3 = ½, 4 = ¼ [-]."""
+    return _rb_column(rb_row, 0)
+
+
+def rb_film_ratio(rb_row):
+    """h₀/c of a row [-]."""
+    return _rb_column(rb_row, 1)
+
+
+def rb_sommerfeld(rb_row):
+    """S of a row [-]."""
+    return _rb_column(rb_row, 2)
+
+
+def rb_log_sommerfeld(rb_row):
+    """log₁₀ S of a row, the charts' abscissa [-]."""
+    return np.log10(_rb_column(rb_row, 2))
+
+
+def rb_friction_variable(rb_row):
+    """(R/c)·f of a row [-]."""
+    return _rb_column(rb_row, 3)
+
+
+def rb_row(sommerfeld, table):
+    """The row (of the stacked tables, from 1) below S in a table: the lower end of
+    the interval that holds log₁₀ S, the first or the last interval beyond the
+    table's ends [-]."""
+    x = np.log10(np.asarray(sommerfeld, dtype=float))
+    rows = _RB_ROWS[_RB_ROWS[:, 0] == table]
+    start = np.count_nonzero(_RB_ROWS[:, 0] < table)
+    below = np.sum(np.log10(rows[:, 2])[None, :] <= np.ravel(x)[:, None], axis=1)
+    return (start + np.clip(below, 1, len(rows) - 1)).reshape(np.shape(x)).astype(float)
+
+
+def rb_fraction(sommerfeld, table):
+    """Where log₁₀ S lies between its row and the next, 0 … 1 (held at the table's
+    ends: the charts stop there) [-]."""
+    x = np.log10(np.asarray(sommerfeld, dtype=float))
+    i = rb_row(sommerfeld, table).astype(int) - 1
+    low, high = np.log10(_RB_ROWS[i, 2]), np.log10(_RB_ROWS[i + 1, 2])
+    return np.clip((x - low) / (high - low), 0.0, 1.0)
+
+
+def rb_film_in_table(row, fraction):
+    """h₀/c interpolated linearly in log₁₀ S in one table [-]."""
+    i = np.asarray(row, dtype=int) - 1
+    return _RB_ROWS[i, 1] + fraction * (_RB_ROWS[i + 1, 1] - _RB_ROWS[i, 1])
+
+
+def rb_friction_in_table(row, fraction):
+    """(R/c)·f interpolated linearly in log₁₀ S in one table [-]."""
+    i = np.asarray(row, dtype=int) - 1
+    return _RB_ROWS[i, 3] + fraction * (_RB_ROWS[i + 1, 3] - _RB_ROWS[i, 3])
+
+
+def raimondi_boyd_blend(bearing_length_ratio, long, one, half, quarter):
+    """Raimondi and Boyd's interpolation between the tables for any L/D (Shigley
+    eq. 12-16): y = (1/(L/D)³)·[−⅛(1 − L/D)(1 − 2L/D)(1 − 4L/D)·y∞
+    + ⅓(1 − 2L/D)(1 − 4L/D)·y₁ − ¼(1 − L/D)(1 − 4L/D)·y½ + 1/24·(1 − L/D)(1 − 2L/D)·y¼];
+    each table itself at its own L/D [-]."""
+    r = np.asarray(bearing_length_ratio, dtype=float)
+    return (-(1 - r) * (1 - 2 * r) * (1 - 4 * r) * long / 8
+            + (1 - 2 * r) * (1 - 4 * r) * one / 3
+            - (1 - r) * (1 - 4 * r) * half / 4
+            + (1 - r) * (1 - 2 * r) * quarter / 24) / r ** 3
+
+
+def rb_friction_coefficient(rb_friction_ratio, bearing_diameter, bearing_clearance):
+    """f = ((R/c)·f)/(R/c) [-]."""
+    return rb_friction_ratio * bearing_clearance / (bearing_diameter / 2)
+
+
+def rb_beyond(sommerfeld, bearing_length_ratio):
+    """1 where the blend reads beyond the charts: L/D below ¼, or S outside the long
+    bearing's table (0.0115 … 0.240), the narrowest, which the blend reads for every
+    L/D but 1, ½ and ¼ [-]."""
+    long = _RB_ROWS[_RB_ROWS[:, 0] == 1, 2]
+    s = np.asarray(sommerfeld, dtype=float)
+    return np.where((np.asarray(bearing_length_ratio) < 0.25) | (s < long[0]) | (s > long[-1]),
+                    1.0, 0.0)
+
+
+def film_from_ratio(film_ratio, bearing_clearance):
+    """h₀ = c·(h₀/c) [m]."""
+    return bearing_clearance * film_ratio
 
 
 def film_from_eccentricity(eccentricity_ratio, bearing_clearance):

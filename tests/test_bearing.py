@@ -40,6 +40,82 @@ def dense_peak(vx, vy, x, y, points=7201):
     return best
 
 
+# ---------------------------------------------------------------- Raimondi and Boyd
+def rb_at(sommerfeld, length_ratio):
+    """h₀/c and (R/c)·f by the workbook's path: each table, then the blend."""
+    films, frictions = [], []
+    for table in (1, 2, 3, 4):
+        row = bearing.rb_row(sommerfeld, table)
+        fraction = bearing.rb_fraction(sommerfeld, table)
+        films.append(bearing.rb_film_in_table(row, fraction))
+        frictions.append(bearing.rb_friction_in_table(row, fraction))
+    return (bearing.raimondi_boyd_blend(length_ratio, *films),
+            bearing.raimondi_boyd_blend(length_ratio, *frictions))
+
+
+def test_raimondi_boyd_reads_shigleys_worked_example():
+    """Shigley (9th ed.) Examples 12-1 and 12-2: a full bearing, L/D = 1, μ = 4 µreyn,
+    N = 30 r/s, W = 500 lbf, r = 0.75 in, c = 0.0015 in, l = 1.5 in: S = 0.135, and
+    from the charts h₀/c = 0.42 and (r/c)·f = 3.50 — read off a chart, so to its
+    reading (±0.01 and ±3 %)."""
+    inch, reyn = 0.0254, 6894.757
+    load, length, diameter = 500 * 4.448222, 1.5 * inch, 1.5 * inch
+    s = bearing.sommerfeld(diameter, 0.0015 * inch, 4e-6 * reyn, 30 * 2 * math.pi,
+                           bearing.specific_load(load, length, diameter))
+    assert s == pytest.approx(0.135, abs=5e-4)
+    film, friction = rb_at(s, 1.0)
+    assert film == pytest.approx(0.42, abs=0.01)
+    assert friction == pytest.approx(3.50, rel=0.03)
+
+
+def test_raimondi_boyds_tables_meet_petroff_and_the_short_bearing():
+    """Independent checks of the tables as typed: at ε = 0.1 every table's friction
+    variable is Petroff's 2π²S within 2 %; h₀/c rises with S in each; the short
+    (Ocvirk) bearing's film is never thinner than the finite one's, comes within 3 %
+    of it at L/D = ¼ from h₀/c = 0.4 up, and is nearer it the shorter the bearing."""
+    rows = bearing._RB_ROWS
+    for table in (1, 2, 3, 4):
+        block = rows[rows[:, 0] == table]
+        assert np.all(np.diff(block[:, 1]) > 0) and np.all(np.diff(block[:, 2]) > 0)
+        film, s, friction = block[-1, 1:]
+        assert film == 0.9 and friction == pytest.approx(2 * math.pi ** 2 * s, rel=0.02)
+    ratios = {}
+    for table, length_ratio in ((2, 1.0), (3, 0.5), (4, 0.25)):
+        block = rows[rows[:, 0] == table]
+        eps = np.array([bearing.steady_eccentricity(np.arange(51), s, length_ratio)[0]
+                        for s in block[:, 2]])
+        ratios[length_ratio] = (1 - eps) / block[:, 1]
+    assert all(np.all(r >= 1) for r in ratios.values())
+    assert np.all(ratios[0.25][3:] < 1.03)
+    assert np.all(ratios[0.25] < ratios[0.5]) and np.all(ratios[0.5] < ratios[1.0])
+
+
+def test_the_blend_is_each_table_at_its_own_length_ratio():
+    """Raimondi and Boyd's formula returns the L/D = 1, ½ and ¼ tables at those L/D,
+    and the film between them lies between the two tables' films."""
+    for s in (0.01, 0.05, 0.135, 0.2):
+        films = []
+        for table, length_ratio in ((2, 1.0), (3, 0.5), (4, 0.25)):
+            row, fraction = bearing.rb_row(s, table), bearing.rb_fraction(s, table)
+            alone = bearing.rb_film_in_table(row, fraction)
+            assert rb_at(s, length_ratio)[0] == pytest.approx(alone, abs=1e-12)
+            films.append(alone)
+        assert films[2] < rb_at(s, 0.375)[0] < films[1] < rb_at(s, 0.75)[0] < films[0]
+
+
+def test_the_thesis_steady_films():
+    """The finite bearing's steady film is thinner than the short bearing's (the
+    short bearing is optimistic); both engines of the thesis stay on the charts."""
+    r = crankbook.compute("thesis")
+    finite = np.asarray(r["bearing_min_film_steady"], dtype=float)
+    short = np.asarray(r["bearing_min_film_short"], dtype=float)
+    assert np.all(finite < short) and np.all(finite > 0)
+    assert not np.any(np.asarray(r["rb_beyond"]))
+    film, _ = rb_at(np.asarray(r["sommerfeld"], dtype=float),
+                    np.asarray(r["bearing_length_ratio"], dtype=float))
+    assert np.allclose(finite, film * float(r["bearing_clearance"]))
+
+
 # ---------------------------------------------------------------- the film's pressure
 def test_the_peak_search_finds_the_largest_pressure_of_any_state():
     """Five Newton steps from the sheet's start reach the largest mid-plane pressure
