@@ -95,18 +95,33 @@ def _run(command, timeout, home):
     return process.returncode, out, err
 
 
-def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
-    """Recalculate each of ``paths`` in ``engine`` and save it as ``target`` in
-    ``outdir``; return the output paths in order."""
-    sweep_temporary()                     # what killed runs left: engines, copies
-    outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    outputs = [outdir / (Path(p).stem + "." + target.split(":")[0]) for p in paths]
+def require_engine(engine):
+    """The engine's program, or a RecalculationError that says how to install it."""
     if engine == "gnumeric":
         ssconvert = find_ssconvert()
         if ssconvert is None:
             raise RecalculationError("Gnumeric (ssconvert) is not installed; install Debian's "
                                      "gnumeric")
+        return ssconvert
+    if engine != "libreoffice":
+        raise RecalculationError(f"unknown engine {engine!r}; engines are {', '.join(ENGINES)}")
+    soffice = find_soffice()
+    if soffice is None:
+        raise RecalculationError("LibreOffice (soffice) is not installed; install Debian's "
+                                 "libreoffice-calc-nogui")
+    return soffice
+
+
+def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
+    """Recalculate each of ``paths`` in ``engine`` and save it as ``target`` in
+    ``outdir``; return the output paths in order."""
+    program = require_engine(engine)
+    sweep_temporary()                     # what killed runs left: engines, copies
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    outputs = [outdir / (Path(p).stem + "." + target.split(":")[0]) for p in paths]
+    if engine == "gnumeric":
+        ssconvert = program
         with temporary_directory("gnumeric") as home:
             for source, output in zip(paths, outputs):
                 code, out, err = _run([ssconvert, "--recalc", str(source), str(output)],
@@ -115,12 +130,7 @@ def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
                     raise RecalculationError(f"Gnumeric wrote no {output}: "
                                              f"{(err or out).strip()[:300]}")
         return outputs
-    if engine != "libreoffice":
-        raise RecalculationError(f"unknown engine {engine!r}; engines are {', '.join(ENGINES)}")
-    soffice = find_soffice()
-    if soffice is None:
-        raise RecalculationError("LibreOffice (soffice) is not installed; install Debian's "
-                                 "libreoffice-calc-nogui")
+    soffice = program
     with temporary_directory("lo") as profile:
         command = [soffice, f"-env:UserInstallation={make_profile(profile)}", "--headless",
                    "--norestore", "--nolockcheck", "--convert-to", target,

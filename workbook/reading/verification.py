@@ -4,6 +4,8 @@ The engine recalculates the file (LibreOffice with recalculation forced, or
 Gnumeric); every q_ name read back is compared, by crankbook.reading.compare's one rule,
 with the calc functions evaluated on the workbook's own inputs.
 """
+from concurrent.futures import ThreadPoolExecutor
+
 from crankbook.spec import params
 
 from crankbook.reading import recalc
@@ -33,34 +35,44 @@ def verify_workbook(path, engine="libreoffice", workdir=None, progress=None):
 
 
 def verify_workbooks(paths, engine="libreoffice", workdir=None, progress=None):
-    """One DataFrame per workbook, every workbook recalculated in one engine start."""
-    loaded = []
-    for path in steps(paths, "verify: reading", progress=progress):
-        named = load_named(path)
-        book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
-        cached = read_results(book, spec, ranges, path, sizes, grid_rows)
-        if not cached:
-            raise WorkbookReadError(f"{path}: has no q_ names, so nothing to verify (a "
-                                    f"student workbook is checked with 'crankbook grade')")
-        loaded.append((path, named, cached))
+    """One DataFrame per workbook, every workbook recalculated in one engine start.
+    The engine runs while the workbooks' own cached values are read and numpy
+    evaluates their inputs, so the two cost as long as the longer of them."""
+    recalc.require_engine(engine)               # a missing engine says so at once
+    opened = [(path, load_named(path))          # a file that is no workbook fails here,
+              for path in steps(paths, "verify: opening", progress=progress)]  # engine idle
     frames = []
     with temporary_directory("verify", workdir) as tmp:
-        with waiting(f"verify: recalculating {len(paths)} workbook(s) in {engine}", progress):
-            converted = recalc.convert(recalc.distinct_inputs(paths, tmp), tmp, engine=engine)
-        for (path, named, cached), after in steps(list(zip(loaded, converted)),
-                                                 "verify: comparing", progress=progress):
-            frames.append(_compared(path, named, cached, after, engine))
+        inputs = recalc.distinct_inputs(paths, tmp)
+        with ThreadPoolExecutor(max_workers=1) as pool:
+            engine_run = pool.submit(recalc.convert, inputs, tmp, engine=engine)
+            loaded = []
+            for path, named in steps(opened, "verify: reading", progress=progress):
+                book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
+                cached = read_results(book, spec, ranges, path, sizes, grid_rows)
+                if not cached:
+                    raise WorkbookReadError(
+                        f"{path}: has no q_ names, so nothing to verify (a student workbook "
+                        f"is checked with 'crankbook grade')")
+                expected = expected_values(spec, values, tables, grids, layout=grid_rows)
+                loaded.append((path, named, cached, expected))
+            with waiting(f"verify: recalculating {len(paths)} workbook(s) in {engine}",
+                         progress):
+                converted = engine_run.result()
+        for (path, named, cached, expected), after in steps(
+                list(zip(loaded, converted)), "verify: comparing", progress=progress):
+            frames.append(_compared(path, named, cached, expected, after, engine))
     return frames
 
 
-def _compared(path, named, cached, converted, engine):
+def _compared(path, named, cached, expected_floors, converted, engine):
     book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
     book_after = open_book(converted)
     ranges_after = defined_ranges(book_after)
     recalculated = read_results(book_after, spec, ranges_after, path, sizes, grid_rows)
     status = _single(book_after, ranges_after, "q_input_status")
     valid = _single(book_after, ranges_after, "q_inputs_valid")
-    expected, floors = expected_values(spec, values, tables, grids, layout=grid_rows)
+    expected, floors = expected_floors
     rows = []
     if expected is not None:
         now = {c.name: c for c in compare(spec, expected, recalculated, floors)}
