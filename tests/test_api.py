@@ -31,7 +31,7 @@ def test_compute_gives_frames_in_sheet_units(thesis):
     assert thesis.scalars["reciprocating_mass"] == pytest.approx(0.515, abs=5e-4)
     assert thesis.parameters["bore"] == 88 and thesis.grids == [
         "crank_angle", "holzer_frequency", "torsion_order", "torsion_station", "campbell_speed",
-        "sweep_candidate", "sweep_speed", "response_order", "steady_step", "orbit_angle"]
+        "sweep_candidate", "sweep_speed", "response_order", "steady_step", "rb_row", "orbit_angle"]
     course = crankbook.compute("course-design")
     assert len(course.series("pos_crank_angle")) == 30
     assert "pos_crank_angle" in course.grids

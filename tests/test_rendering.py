@@ -219,8 +219,9 @@ def test_page_counts_are_the_readmes(rendered):
     # check with the damper's before-and-after chart (issue 43), five for the
     # connecting rod (issue 44: two of inputs, two of its strength sheet, its verdict,
     # its charts and the Summary's block of its factors), four for the bearings' oil
-    # film (issue 45: inputs, its two-page table of the two bearings, its charts)
-    assert max(stated[("thesis", "zh")], stated[("thesis", "en")]) <= 63
+    # film (issue 45: inputs, its two-page table of the two bearings, its charts) and
+    # two for Raimondi and Boyd's lookup of the steady film
+    assert max(stated[("thesis", "zh")], stated[("thesis", "en")]) <= 65
 
 
 # ------------------------------------------------------------------ chart XML
