@@ -558,17 +558,6 @@ def film_pressure(psi, orbit_squeeze_rate, orbit_whirl_rate, orbit_eccentricity_
     return np.maximum(p, 0.0)
 
 
-def angle_of_max(values, orbit_angle, tolerance):
-    """The first angle of the second cycle where a column comes within ``tolerance``
-    of its largest value [unit of orbit_angle]."""
-    angle = np.ravel(np.asarray(orbit_angle, dtype=float))
-    v = np.asarray(values, dtype=float)
-    second = angle >= 0
-    high = v[second].max(axis=0)
-    hit = second[:, None] & (v >= high - tolerance)
-    return angle[np.argmax(hit, axis=0)]
-
-
 # ---------------------------------------------------------------- results
 def _second_cycle(orbit_angle):
     return np.ravel(np.asarray(orbit_angle, dtype=float)) >= 0
@@ -600,6 +589,12 @@ def angle_of_min(values, orbit_angle, tolerance):
     low = v[second].min(axis=0)
     hit = second[:, None] & (v <= low + tolerance)
     return angle[np.argmax(hit, axis=0)]
+
+
+def angle_of_max(values, orbit_angle, tolerance):
+    """The first angle of the second cycle where a column comes within ``tolerance``
+    of its largest value [unit of orbit_angle]."""
+    return angle_of_min(-np.asarray(values, dtype=float), orbit_angle, tolerance)
 
 
 def count_clamped(orbit_clamped, orbit_angle):
