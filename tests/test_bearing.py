@@ -111,6 +111,7 @@ def test_the_thesis_steady_films():
     short = np.asarray(r["bearing_min_film_short"], dtype=float)
     assert np.all(finite < short) and np.all(finite > 0)
     assert not np.any(np.asarray(r["rb_beyond"]))
+    assert np.ravel(r["rb_row"]).size == bearing.raimondi_boyd_rows()   # every row laid out
     film, _ = rb_at(np.asarray(r["sommerfeld"], dtype=float),
                     np.asarray(r["bearing_length_ratio"], dtype=float))
     assert np.allclose(finite, film * float(r["bearing_clearance"]))
