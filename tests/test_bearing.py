@@ -339,6 +339,8 @@ def test_the_thesis_bearings():
     assert means[int(r["checked_journal"]) - 1] == pytest.approx(means.max())
     film = np.asarray(r["film_thickness"], dtype=float)
     angle = np.asarray(r["orbit_angle"], dtype=float)
+    # the time step is one grid step at ω (the constant orbit_step and the grid's step)
+    assert np.allclose(np.diff(np.radians(angle)), float(r["orbit_time_step"]) * omega)
     low = np.asarray(r["bearing_min_film"], dtype=float)
     assert np.allclose(low, film[angle >= 0].min(axis=0))
     assert 0 < low.min() < float(r["bearing_clearance"])
