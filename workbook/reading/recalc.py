@@ -121,18 +121,16 @@ def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
     outdir.mkdir(parents=True, exist_ok=True)
     outputs = [outdir / (Path(p).stem + "." + target.split(":")[0]) for p in paths]
     if engine == "gnumeric":
-        ssconvert = program
         with temporary_directory("gnumeric") as home:
             for source, output in zip(paths, outputs):
-                code, out, err = _run([ssconvert, "--recalc", str(source), str(output)],
+                code, out, err = _run([program, "--recalc", str(source), str(output)],
                                       timeout, home)
                 if not output.is_file():
                     raise RecalculationError(f"Gnumeric wrote no {output}: "
                                              f"{(err or out).strip()[:300]}")
         return outputs
-    soffice = program
     with temporary_directory("lo") as profile:
-        command = [soffice, f"-env:UserInstallation={make_profile(profile)}", "--headless",
+        command = [program, f"-env:UserInstallation={make_profile(profile)}", "--headless",
                    "--norestore", "--nolockcheck", "--convert-to", target,
                    "--outdir", str(outdir)] + [str(p) for p in paths]
         code, out, err = _run(command, timeout, profile)
