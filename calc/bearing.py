@@ -160,18 +160,18 @@ def pv(bearing_specific_load_mean, bearing_sliding_velocity):
     return bearing_specific_load_mean * bearing_sliding_velocity
 
 
-def sommerfeld(bearing_diameter, bearing_clearance, oil_viscosity, angular_velocity,
+def sommerfeld(bearing_diameter, bearing_clearance, film_viscosity, angular_velocity,
                bearing_specific_load_mean):
     """S = (R/c)²·μ·N/p, N in rev/s (Shigley eq. 12-7) [-]."""
     radius_ratio = bearing_diameter / 2 / bearing_clearance
-    return radius_ratio ** 2 * oil_viscosity * angular_velocity / (2 * np.pi) \
+    return radius_ratio ** 2 * film_viscosity * angular_velocity / (2 * np.pi) \
         / bearing_specific_load_mean
 
 
-def petroff_friction(bearing_diameter, bearing_clearance, oil_viscosity, angular_velocity,
+def petroff_friction(bearing_diameter, bearing_clearance, film_viscosity, angular_velocity,
                      bearing_specific_load_mean):
     """Petroff's friction coefficient f = 2π²·(R/c)·μ·N/p (Shigley eq. 12-6) [-]."""
-    return 2 * np.pi ** 2 * (bearing_diameter / 2 / bearing_clearance) * oil_viscosity \
+    return 2 * np.pi ** 2 * (bearing_diameter / 2 / bearing_clearance) * film_viscosity \
         * angular_velocity / (2 * np.pi) / bearing_specific_load_mean
 
 
@@ -338,10 +338,10 @@ def film_from_eccentricity(eccentricity_ratio, bearing_clearance):
 
 
 # ---------------------------------------------------------------- the orbit
-def mobility_scale(bearing_diameter, bearing_length, bearing_clearance, oil_viscosity):
+def mobility_scale(bearing_diameter, bearing_length, bearing_clearance, film_viscosity):
     """(c/R)²/(μ·L·D): the squeeze rate per newton [1/(N·s)]."""
     return (2 * bearing_clearance / bearing_diameter) ** 2 \
-        / (oil_viscosity * bearing_length * bearing_diameter)
+        / (film_viscosity * bearing_length * bearing_diameter)
 
 
 def time_step(orbit_step, angular_velocity):
@@ -442,12 +442,12 @@ def film_thickness(orbit_eccentricity_x, orbit_eccentricity_y, bearing_clearance
 
 
 def friction_power(orbit_eccentricity_x, orbit_eccentricity_y, orbit_mean_velocity,
-                   bearing_diameter, bearing_length, bearing_clearance, oil_viscosity):
+                   bearing_diameter, bearing_length, bearing_clearance, film_viscosity):
     """The full film's Couette shear loss 2π·μ·R³·L·Δω²/(c·√(1 − ε²)), Δω = 2ω̄ the
     journal's speed relative to its bush [W]."""
     e2 = np.asarray(orbit_eccentricity_x) ** 2 + np.asarray(orbit_eccentricity_y) ** 2
     relative = 2 * np.asarray(orbit_mean_velocity, dtype=float)
-    return 2 * np.pi * oil_viscosity * (bearing_diameter / 2) ** 3 * bearing_length \
+    return 2 * np.pi * film_viscosity * (bearing_diameter / 2) ** 3 * bearing_length \
         * relative ** 2 / (bearing_clearance * np.sqrt(1 - e2))
 
 
@@ -544,7 +544,7 @@ def peak_pressure_search(orbit_squeeze_rate, orbit_whirl_rate, orbit_eccentricit
 
 
 def film_pressure(psi, orbit_squeeze_rate, orbit_whirl_rate, orbit_eccentricity_x,
-                  orbit_eccentricity_y, oil_viscosity, bearing_length, bearing_clearance):
+                  orbit_eccentricity_y, film_viscosity, bearing_length, bearing_clearance):
     """The short bearing's mid-plane film pressure at ψ from the thinnest film,
     p = 3μL²/(2c²)·(A cos ψ + B sin ψ)/(1 − ε cos ψ)³, none below zero (half-Sommerfeld:
     the film cavitates) [Pa].  From Reynolds' equation without the circumferential
@@ -553,7 +553,7 @@ def film_pressure(psi, orbit_squeeze_rate, orbit_whirl_rate, orbit_eccentricity_
     a = np.asarray(orbit_squeeze_rate, dtype=float)
     b = np.asarray(orbit_whirl_rate, dtype=float)
     e = np.hypot(orbit_eccentricity_x, orbit_eccentricity_y)
-    p = 3 * oil_viscosity * bearing_length ** 2 / (2 * bearing_clearance ** 2) \
+    p = 3 * film_viscosity * bearing_length ** 2 / (2 * bearing_clearance ** 2) \
         * (a * np.cos(psi) + b * np.sin(psi)) / (1 - e * np.cos(psi)) ** 3
     return np.maximum(p, 0.0)
 

@@ -34,7 +34,9 @@ WORKBOOKS = {
     "thesis_edit_offset": {"edit_of": "thesis_step3",
                            "edits": {"offset": -9.0, "rod_length": 172.0, "bore": 92.0,
                                      "exact_kinematics": 1.0, "damper_kind": 1.0,
-                                     "damper_inertia": 0.003, "damper_damping": 2.5}},
+                                     "damper_inertia": 0.003, "damper_damping": 2.5,
+                                     # an SAE grade's oil at 110 °C (issue 45)
+                                     "oil_grade": "SAE40", "oil_temperature": 383.15}},
     # … and a textbook's three-rotor system typed over the computed one (issue 28)
     "thesis_edit_speed": {"edit_of": "thesis_step3",
                           "edits": {"speed": 2300.0, "crank_radius": 45.0, "piston_mass": 0.41,
