@@ -5,6 +5,7 @@ import pty
 import select
 import subprocess
 import sys
+import time
 
 import crankbook
 from tests.conftest import ROOT, run_cli
@@ -67,3 +68,37 @@ def test_the_api_takes_a_progress_flag(tmp_path, capsys):
     results = crankbook.read(paths, progress=True)
     assert "read:" in capsys.readouterr().err
     assert [r["speed"] for r in results] == [2000, 3000]
+
+
+def test_giving_up_while_the_engine_runs_ends_the_engine(tmp_path, monkeypatch):
+    """verify reads the workbook while the engine recalculates it in another thread.
+    When the reading fails (or Ctrl-C comes) the engine, which runs in a session of
+    its own out of the terminal's reach, is killed at once rather than waited for:
+    here a one-minute stand-in for it ends by SIGKILL, not by itself."""
+    from crankbook.errors import RecalculationError, WorkbookReadError
+    from crankbook.reading import recalc, verification
+    path = tmp_path / "offset.xlsx"
+    crankbook.compute("offset-optimization").to_excel(path)
+    ended = {}
+
+    def engine_stand_in(paths, outdir, engine="libreoffice", cancel=None, **_):
+        try:
+            ended["how"] = recalc._run(["sleep", "60"], 120, str(tmp_path), cancel)[0]
+        except RecalculationError:
+            ended["how"] = "not started"
+        return []
+
+    def no_q_names(*args):
+        time.sleep(0.5)           # the engine has started by now, as with a real workbook
+        return {}
+
+    monkeypatch.setattr(recalc, "require_engine", lambda engine: "sleep")
+    monkeypatch.setattr(recalc, "convert", engine_stand_in)
+    monkeypatch.setattr(verification, "read_results", no_q_names)
+    try:
+        verification.verify_workbooks([path], progress=False)
+    except WorkbookReadError as error:
+        assert "has no q_ names" in str(error)
+    else:
+        raise AssertionError("a workbook without q_ names was verified")
+    assert ended["how"] in (-9, "not started"), ended

@@ -11,6 +11,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 from crankbook.errors import RecalculationError
@@ -72,16 +73,51 @@ def _death_signal():
     return lambda: prctl(1, signal.SIGKILL)                              # PR_SET_PDEATHSIG
 
 
-def _run(command, timeout, home):
-    """Run ``command`` in its own process group; kill the whole group on timeout.  Its
-    HOME and TMPDIR are the scratch folder ``home``, so what the engine leaves (its
-    profile, LibreOffice's lu*.tmp) goes with the folder."""
+class Cancel:
+    """A handle on the engine runs of one caller, to give up on them from another
+    thread (Ctrl-C, an unreadable workbook).  The engine runs in a session of its own,
+    out of the terminal's Ctrl-C, and the thread waiting on it would hold the caller
+    until it finished; ``cancel()`` kills what runs and refuses what would start."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._processes = set()
+        self.cancelled = False
+
+    def started(self, process):
+        """Whether ``process`` may go on (False: the caller has given up already)."""
+        with self._lock:
+            if not self.cancelled:
+                self._processes.add(process)
+            return not self.cancelled
+
+    def finished(self, process):
+        with self._lock:
+            self._processes.discard(process)
+
+    def cancel(self):
+        with self._lock:
+            self.cancelled = True
+            for process in self._processes:
+                if process.poll() is None:    # not yet reaped: its group is still ours
+                    os.killpg(process.pid, 9)
+
+
+def _run(command, timeout, home, cancel=None):
+    """Run ``command`` in its own process group; kill the whole group on timeout or when
+    ``cancel`` (a Cancel) is cancelled.  Its HOME and TMPDIR are the scratch folder
+    ``home``, so what the engine leaves (its profile, LibreOffice's lu*.tmp) goes with
+    the folder."""
+    if cancel is not None and cancel.cancelled:
+        raise RecalculationError(f"{Path(command[0]).name} was not started: cancelled")
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                env={**os.environ, "HOME": home, "TMPDIR": home},
                                start_new_session=True,
                                preexec_fn=_death_signal())
     record_engine(home, process.pid)      # a killed run's engine: the next run ends it
     try:
+        if cancel is not None and not cancel.started(process):
+            os.killpg(process.pid, 9)
         out, err = process.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
         os.killpg(process.pid, 9)
@@ -92,6 +128,9 @@ def _run(command, timeout, home):
         os.killpg(process.pid, 9)
         process.communicate()
         raise
+    finally:
+        if cancel is not None:
+            cancel.finished(process)
     return process.returncode, out, err
 
 
@@ -112,9 +151,10 @@ def require_engine(engine):
     return soffice
 
 
-def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
+def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice", cancel=None):
     """Recalculate each of ``paths`` in ``engine`` and save it as ``target`` in
-    ``outdir``; return the output paths in order."""
+    ``outdir``; return the output paths in order.  ``cancel``: a Cancel another thread
+    may use to stop the engine."""
     program = require_engine(engine)
     sweep_temporary()                     # what killed runs left: engines, copies
     outdir = Path(outdir)
@@ -124,7 +164,7 @@ def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
         with temporary_directory("gnumeric") as home:
             for source, output in zip(paths, outputs):
                 code, out, err = _run([program, "--recalc", str(source), str(output)],
-                                      timeout, home)
+                                      timeout, home, cancel)
                 if not output.is_file():
                     raise RecalculationError(f"Gnumeric wrote no {output}: "
                                              f"{(err or out).strip()[:300]}")
@@ -133,7 +173,7 @@ def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice"):
         command = [program, f"-env:UserInstallation={make_profile(profile)}", "--headless",
                    "--norestore", "--nolockcheck", "--convert-to", target,
                    "--outdir", str(outdir)] + [str(p) for p in paths]
-        code, out, err = _run(command, timeout, profile)
+        code, out, err = _run(command, timeout, profile, cancel)
     missing = [str(p) for p in outputs if not p.is_file()]
     if missing:
         raise RecalculationError("LibreOffice wrote no " + ", ".join(missing)

@@ -45,24 +45,33 @@ def verify_workbooks(paths, engine="libreoffice", workdir=None, progress=None):
     with temporary_directory("verify", workdir) as tmp:
         inputs = recalc.distinct_inputs(paths, tmp)
         with ThreadPoolExecutor(max_workers=1) as pool:
-            engine_run = pool.submit(recalc.convert, inputs, tmp, engine=engine)
-            loaded = []
-            for path, named in steps(opened, "verify: reading", progress=progress):
-                book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
-                cached = read_results(book, spec, ranges, path, sizes, grid_rows)
-                if not cached:
-                    raise WorkbookReadError(
-                        f"{path}: has no q_ names, so nothing to verify (a student workbook "
-                        f"is checked with 'crankbook grade')")
-                expected = expected_values(spec, values, tables, grids, layout=grid_rows)
-                loaded.append((path, named, cached, expected))
-            with waiting(f"verify: recalculating {len(paths)} workbook(s) in {engine}",
-                         progress):
-                converted = engine_run.result()
+            cancel = recalc.Cancel()
+            engine_run = pool.submit(recalc.convert, inputs, tmp, engine=engine, cancel=cancel)
+            try:
+                loaded = [_loaded(path, named) for path, named in
+                          steps(opened, "verify: reading", progress=progress)]
+                with waiting(f"verify: recalculating {len(paths)} workbook(s) in {engine}",
+                             progress):
+                    converted = engine_run.result()
+            except BaseException:
+                cancel.cancel()               # Ctrl-C or a bad file: do not wait for it
+                raise
         for (path, named, cached, expected), after in steps(
                 list(zip(loaded, converted)), "verify: comparing", progress=progress):
             frames.append(_compared(path, named, cached, expected, after, engine))
     return frames
+
+
+def _loaded(path, named):
+    """A workbook's cached values and numpy's values for its inputs."""
+    book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
+    cached = read_results(book, spec, ranges, path, sizes, grid_rows)
+    if not cached:
+        raise WorkbookReadError(
+            f"{path}: has no q_ names, so nothing to verify (a student workbook "
+            f"is checked with 'crankbook grade')")
+    expected = expected_values(spec, values, tables, grids, layout=grid_rows)
+    return path, named, cached, expected
 
 
 def _compared(path, named, cached, expected_floors, converted, engine):
