@@ -359,6 +359,17 @@ def test_a_larger_clearance_thins_the_big_ends_film_at_its_peak_load():
         float(np.asarray(base["bearing_max_eccentricity"])[0])
 
 
+def test_a_grade_typed_in_any_case_is_that_grade(tmp_path):
+    """The sheet's MATCH and drop-down ignore letter case in every engine, so "sae30"
+    in the cell is computed as SAE30 there; the command line and the reader agree."""
+    from tests.conftest import edit_cells
+    graded = crankbook.compute("thesis", oil_grade=" sae30 ")
+    assert graded["oil_grade"] == 4.0
+    built = crankbook.compute("thesis").to_excel(tmp_path / "thesis.xlsx")
+    edit_cells(built, tmp_path / "typed.xlsx", {"oil_grade": "Sae30"})
+    assert crankbook.read(tmp_path / "typed.xlsx")["oil_grade"] == 4.0
+
+
 # SAE J300 (2015): kinematic viscosity at 100 °C [mm²/s], at least … below
 J300_BANDS = {20: (6.9, 9.3), 30: (9.3, 12.5), 40: (12.5, 16.3), 50: (16.3, 21.9),
               60: (21.9, 26.1)}

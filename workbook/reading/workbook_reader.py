@@ -195,10 +195,10 @@ def read_inputs(book, spec, ranges, path):
             raise WorkbookReadError(f"{path}: name {name} is not a single cell")
         raw = cells(book, found)[0]
         if p.kind == "choice":
-            if raw not in p.choices:
+            if p.choice_number(raw) is None:
                 raise WorkbookReadError(f"{path}: {name} holds {raw!r}, not one of "
                                         f"{', '.join(p.choices)}")
-            values[p.key] = float(p.choices.index(raw) + 1)
+            values[p.key] = float(p.choice_number(raw))
         else:
             number = _number(raw)
             if number is None:

@@ -58,6 +58,15 @@ class Parameter:
         unit = "" if self.unit in ("-", "count") else f" {self.unit}"
         return " and ".join(parts) + unit
 
+    def choice_number(self, word):
+        """The 1-based index of ``word`` among the choices, or None.  Letter case does
+        not count, as in the sheet's MATCH and its drop-down list in every engine: a
+        cell holding "sae30" is computed with SAE30 there, so it is read as SAE30."""
+        folded = [c.casefold() for c in self.choices]
+        if isinstance(word, str) and word.casefold() in folded:
+            return folded.index(word.casefold()) + 1
+        return None
+
     def breaks_bounds(self, value):
         """True when a number is outside this parameter's own rule."""
         if self.kind == "flag":
