@@ -183,6 +183,48 @@ def test_authoring_mistakes_name_the_file_and_key(column, words):
     assert caught.value.file == "mine.toml" and caught.value.key == "y"
 
 
+def _repeated(**repeat_fields):
+    """A template whose y1, y2, y3 are one repeated column, each from the one before."""
+    data = _minimal()
+    data["sheet"][0]["column"].append({
+        "repeat": {"n": [1, 2, 3], "before": ["x", "y1", "y2"]}, "key": "y${n}", "unit": "mm",
+        "zh": "y${n}", "en": "step ${n}", "formula": "{${before}}+${n}",
+        "calc": "calc.kinematics.piston_displacement_first_order",
+        "args": {"crank_angle": "angle"}, **repeat_fields})
+    return data
+
+
+def test_a_repeated_entry_is_its_written_out_copies():
+    written = _minimal()
+    for n, before in ((1, "x"), (2, "y1"), (3, "y2")):
+        written["sheet"][0]["column"].append({
+            "key": f"y{n}", "unit": "mm", "zh": f"y{n}", "en": f"step {n}",
+            "formula": f"{{{before}}}+{n}",
+            "calc": "calc.kinematics.piston_displacement_first_order",
+            "args": {"crank_angle": "angle"}})
+    assert from_data(_repeated()) == from_data(written)
+
+
+@pytest.mark.parametrize("fields,words", [
+    ({"repeat": {"n": [1, 2], "before": ["x"]}}, "the lists must be of one length"),
+    ({"repeat": {"n": []}}, "n must be a list of numbers or words"),
+    ({"repeat": {"N": [1]}}, "'N' is not a plain lower-case name"),
+    ({"repeat": [1, 2]}, "repeat must be a table of lists"),
+    ({"repeat": {"n": [1, 2, 3], "before": ["x", "y1", "y2"]}, "zh": "${m}"},
+     "${m} is not one of the repeat's names"),
+])
+def test_a_malformed_repeat_names_the_file_and_entry(fields, words):
+    with pytest.raises(SpecError) as caught:
+        from_data(_repeated(**fields), file="mine.toml")
+    assert str(caught.value).startswith("templates/mine.toml: y${n}: ")
+    assert words in str(caught.value)
+
+
+def test_a_repeat_name_outside_a_repeated_entry_is_refused():
+    with pytest.raises(SpecError, match=r"mine.toml: repeat: \$\{n\} is used outside"):
+        from_data(_with_column(formula="{x}*${n}"), file="mine.toml")
+
+
 @pytest.mark.parametrize("formula", ["-({x}^2)", "0-{x}^2", "{x}-{x}^2", "2^-{x}",
                                      "{x}*-1", "EXP(-{x})^2"])
 def test_a_minus_a_spreadsheet_reads_as_numpy_does_is_allowed(formula):

@@ -8,6 +8,7 @@ placed member.  Every mistake raises SpecError naming the file and the key.
 from functools import lru_cache
 
 from crankbook.spec import placeholders
+from crankbook.spec.repeat import expanded
 
 from crankbook.support import resources
 from crankbook.errors import SpecError, UnknownPresetError
@@ -30,7 +31,8 @@ def _read(name, folder=None):
     if not resources.is_safe_name(name) or not resources.exists(*parts):
         where = f"templates/{folder}" if folder else "templates"
         raise UnknownPresetError(f"workbook template {name!r} does not exist in {where}")
-    return dict(resources.read_toml(*parts))
+    return expanded(dict(resources.read_toml(*parts)), f"{folder}/{name}.toml" if folder
+                    else f"{name}.toml")
 
 
 def _merged(name):
@@ -350,7 +352,7 @@ def load(name):
 
 def from_data(data, file="test.toml"):
     """A specification from parsed TOML (libraries in ``include`` are merged)."""
-    return build(_with_libraries(data, file), file)
+    return build(_with_libraries(expanded(data, file), file), file)
 
 
 def build(data, file):
