@@ -220,6 +220,39 @@ def test_a_malformed_repeat_names_the_file_and_entry(fields, words):
     assert words in str(caught.value)
 
 
+def test_together_repeats_a_block_of_entries_in_order():
+    """Two entries per value, value after value: a1, b1, a2, b2 — as written out."""
+    def column(key, formula, **extra):
+        return {"key": key, "unit": "mm", "zh": key, "en": key, "formula": formula,
+                "calc": "calc.kinematics.piston_displacement_first_order",
+                "args": {"crank_angle": "angle"}, **extra}
+    repeated = _minimal()
+    repeated["sheet"][0]["column"] += [
+        column("a${n}", "{x}*${n}", repeat={"n": [1, 2]}, together=2),
+        column("b${n}", "{a${n}}+1")]
+    written = _minimal()
+    written["sheet"][0]["column"] += [column("a1", "{x}*1"), column("b1", "{a1}+1"),
+                                      column("a2", "{x}*2"), column("b2", "{a2}+1")]
+    spec = from_data(repeated)
+    assert [q.key for q in spec.quantities()][2:] == ["a1", "b1", "a2", "b2"]
+    assert spec == from_data(written)
+
+
+@pytest.mark.parametrize("together,after,words", [
+    (3, [], "together = 3, but only 1 entries follow from here"),
+    (0, [], "together must be a whole number of entries"),
+    (2, [{"repeat": {"n": [1]}}], "has no repeat or together of its own"),
+])
+def test_a_malformed_together_names_the_file_and_entry(together, after, words):
+    data = _repeated(together=together)
+    data["sheet"][0]["column"] += [{"key": "z", "unit": "mm", "zh": "z", "en": "z",
+                                    "formula": "{x}", **extra} for extra in after]
+    with pytest.raises(SpecError) as caught:
+        from_data(data, file="mine.toml")
+    assert str(caught.value).startswith("templates/mine.toml: y${n}: ")
+    assert words in str(caught.value)
+
+
 def test_a_repeat_name_outside_a_repeated_entry_is_refused():
     with pytest.raises(SpecError, match=r"mine.toml: repeat: \$\{n\} is used outside"):
         from_data(_with_column(formula="{x}*${n}"), file="mine.toml")

@@ -10,6 +10,10 @@ nested tables — replaced by the lists' i-th values.  A formula may build a key
 them: ``{peak_angle_${previous}|rad}`` is ``{peak_angle_0|rad}`` in the first copy.
 The copies take the entry's place in its list, in order, so a workbook built from a
 repeated entry is the workbook its written-out copies build, byte for byte.
+
+``together = n`` beside ``repeat`` repeats the entry and the n − 1 entries after it as
+one block: all n for the first values, then all n for the second, and so on (four
+look-ups per Raimondi–Boyd table, table after table).
 """
 import re
 
@@ -24,12 +28,16 @@ def expanded(data, file):
     if isinstance(data, dict):
         return {key: expanded(value, file) for key, value in data.items()}
     if isinstance(data, list):
-        out = []
-        for item in data:
+        out, position = [], 0
+        while position < len(data):
+            item = data[position]
             if isinstance(item, dict) and "repeat" in item:
-                out += [expanded(copy, file) for copy in _copies(item, file)]
+                block = _block(data, position, file)
+                out += [expanded(copy, file) for copy in _copies(block, file)]
+                position += len(block)
             else:
                 out.append(expanded(item, file))
+                position += 1
         return out
     if isinstance(data, str) and "${" in data:
         name = _USE.search(data).group(1)
@@ -37,7 +45,26 @@ def expanded(data, file):
     return data
 
 
-def _copies(entry, file):
+def _block(entries, position, file):
+    """The repeated entry and the entries ``together`` takes with it."""
+    head = entries[position]
+    key = str(head.get("key", "repeat"))
+    size = head.get("together", 1)
+    if not isinstance(size, int) or isinstance(size, bool) or size < 1:
+        raise SpecError(file, key, "together must be a whole number of entries, 1 or more")
+    block = entries[position:position + size]
+    if len(block) < size:
+        raise SpecError(file, key, f"together = {size}, but only {len(block)} entries "
+                                   f"follow from here")
+    for other in block[1:]:
+        if not isinstance(other, dict) or "repeat" in other or "together" in other:
+            raise SpecError(file, key, "an entry the repeat takes together has no repeat "
+                                       "or together of its own")
+    return block
+
+
+def _copies(block, file):
+    entry = block[0]
     key = str(entry.get("key", "repeat"))
     table = entry["repeat"]
     if not isinstance(table, dict) or not table:
@@ -54,10 +81,10 @@ def _copies(entry, file):
         lengths.add(len(values))
     if len(lengths) != 1:
         raise SpecError(file, key, "repeat: the lists must be of one length")
-    body = {k: v for k, v in entry.items() if k != "repeat"}
+    bodies = [{k: v for k, v in entry.items() if k not in ("repeat", "together")}] + block[1:]
     return [_filled(body, {name: _text(values[i]) for name, values in table.items()},
                     file, key)
-            for i in range(lengths.pop())]
+            for i in range(lengths.pop()) for body in bodies]
 
 
 def _text(value):
