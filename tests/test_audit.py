@@ -547,7 +547,7 @@ def test_audit_names_a_student_workbook_and_a_key(tmp_path):
 
 
 def _input_cell(path, name):
-    book = openpyxl.load_workbook(path)
+    book = openpyxl.load_workbook(path, read_only=True)      # one cell: no full load
     sheet, ref = next(iter(book.defined_names[name].destinations))
     return book.sheetnames.index(sheet) + 1, ref.replace("$", ""), book[sheet][ref.replace("$", "")].value
 
@@ -566,7 +566,7 @@ def test_an_input_changed_without_recalculation_is_one_finding(built, tmp_path):
     assert len(lines) == 1, done.stdout[:2000]
     assert "not recalculated after p_bore changed" in lines[0] and "q_" in lines[0]
     # a result typed over on top of that is still its own finding
-    torque = openpyxl.load_workbook(built).sheetnames.index("Torque") + 1
+    torque = openpyxl.load_workbook(built, read_only=True).sheetnames.index("Torque") + 1
     _set_cached_value(stale, torque, "B12", "999.5")
     done = run_cli("audit", stale)
     lines = [l for l in done.stdout.splitlines() if l.startswith("  ")]
