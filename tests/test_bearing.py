@@ -508,3 +508,72 @@ def test_a_coarse_grid_feeds_the_orbit_linearly():
     assert np.allclose(orbit[at[10.0]], (load[2] + load[3]) / 2)
     assert np.allclose(orbit[at[9.0]], 0.75 * load[2] + 0.25 * load[3])
     assert float(r["crank_step"]) == pytest.approx(4.0)
+
+
+# ------------------------------------------- the short bearing against the finite one
+def finite_reynolds_load(eps, length_ratio, drive, n_theta=180, n_xi=24):
+    """The film force of a finite bearing by finite differences (numpy, red-black SOR,
+    p ≥ 0: Reynolds' cavitation condition, as Raimondi and Boyd's), nondimensional.
+
+    H = 1 + ε·cos θ over θ ∈ [0, 2π) and ξ = z/R ∈ [−L/D, L/D], p = 0 at the ends;
+    ∂/∂θ(H³ ∂P/∂θ) + ∂/∂ξ(H³ ∂P/∂ξ) = 6 ∂H/∂θ for a journal turning at ω in a still
+    bush (``drive="rotation"``, P = p·c²/(μωR²)), = 12 cos θ for the journal squeezed
+    towards the thin film at dε/dt (``"squeeze"``, P = p·c²/(μ·(dε/dt)·R²)).  Returns
+    |∫∫P·(cos θ, sin θ) dθ dξ|: the force over μωR⁴/c² or μ(dε/dt)R⁴/c²."""
+    theta = np.arange(n_theta) * 2 * np.pi / n_theta
+    d_theta, d_xi = theta[1], 2 * length_ratio / n_xi
+    east = (1 + eps * np.cos(theta + d_theta / 2)) ** 3 / d_theta ** 2
+    west = (1 + eps * np.cos(theta - d_theta / 2)) ** 3 / d_theta ** 2
+    north = (1 + eps * np.cos(theta)) ** 3 / d_xi ** 2
+    source = -6 * eps * np.sin(theta) if drive == "rotation" else 12 * np.cos(theta)
+    centre = east + west + 2 * north
+    p = np.zeros((n_theta, n_xi + 1))
+    colour = np.add.outer(np.arange(n_theta), np.arange(n_xi + 1)) % 2
+    inner = np.zeros_like(p, dtype=bool)
+    inner[:, 1:-1] = True
+    for sweep in range(20000):
+        before = p.copy()
+        for shade in (0, 1):
+            gauss_seidel = (east[:, None] * np.roll(p, -1, 0) + west[:, None] * np.roll(p, 1, 0)
+                            + north[:, None] * (np.roll(p, -1, 1) + np.roll(p, 1, 1))
+                            - source[:, None]) / centre[:, None]
+            p = np.where(inner & (colour == shade), np.maximum(0, p + 1.7 * (gauss_seidel - p)), p)
+        if sweep % 100 == 0 and np.abs(p - before).max() < 1e-10 * max(1.0, p.max()):
+            break
+    else:
+        raise AssertionError("the finite-difference film did not converge")
+    weights = np.full(n_xi + 1, d_xi)
+    weights[[0, -1]] = d_xi / 2
+    return math.hypot((p * np.cos(theta)[:, None] * weights).sum() * d_theta,
+                      (p * np.sin(theta)[:, None] * weights).sum() * d_theta)
+
+
+@pytest.mark.parametrize("table,length_ratio", [("1", 1.0), ("1/2", 0.5), ("1/4", 0.25)])
+def test_a_finite_difference_film_gives_raimondi_and_boyds_tables(table, length_ratio):
+    """The solver below is checked first: Raimondi and Boyd's Sommerfeld numbers (the
+    tables the sheet ships) from its own film, S = 2(L/D)/(π·force), within 2 % for
+    every row from h₀/c = 0.1 (the grid is 2°)."""
+    rows = dict(bearing.RAIMONDI_BOYD)[table]
+    for film_ratio, sommerfeld, _ in rows:
+        if film_ratio >= 0.1:
+            force = finite_reynolds_load(1 - film_ratio, length_ratio, "rotation")
+            assert 2 * length_ratio / (math.pi * force) == pytest.approx(sommerfeld, rel=0.02), \
+                film_ratio
+
+
+def test_the_sheets_short_bearing_mobility_is_the_finite_bearings_limit_and_optimistic():
+    """Pure squeeze: the force the sheet's mobility (Goenka's short bearing) gives,
+    4(L/D)/M_ζ, against a finite bearing's.  They meet as L/D → 0 (within Goenka's 4 %
+    fit of the short bearing), and the finite bearing carries less, the less the longer
+    the bearing and the higher ε: the sheet's films are optimistic, as labelled."""
+    def finite_over_sheet(eps, length_ratio):
+        m_zeta, _ = bearing.short_bearing_mobility(eps, 0.0, length_ratio)
+        return finite_reynolds_load(eps, length_ratio, "squeeze") / (4 * length_ratio / m_zeta)
+
+    eccentricities = (0.3, 0.6, 0.8)
+    for eps in eccentricities:
+        assert finite_over_sheet(eps, 0.05) == pytest.approx(1.0, abs=0.04)
+    ratios = np.array([[finite_over_sheet(eps, ld) for eps in eccentricities]
+                       for ld in (0.25, 0.5, 1.0)])
+    assert np.all(ratios < 1)
+    assert np.all(np.diff(ratios, axis=0) < 0) and np.all(np.diff(ratios, axis=1) < 0)
