@@ -193,12 +193,15 @@ def _stale(findings, spec, values, tables, grids, book):
     if before is None:
         return findings
     following = []                     # the cells that hold the built inputs' results
+    limits = {}                        # name -> its built values and their allowances
     for f in differing:
         key = f.name[2:]
-        want = np.atleast_1d(np.asarray(before.get(key, math.nan), dtype=float)).ravel()
+        if key not in limits:
+            want = np.atleast_1d(np.asarray(before.get(key, math.nan), dtype=float)).ravel()
+            limits[key] = want, allowances(want, floors.get(key, 0.0))
+        want, allowed = limits[key]
         if f.index is not None and f.index < want.size and np.isfinite(want[f.index]) and \
-                abs(f.stored - want[f.index]) <= \
-                allowances(want, floors.get(key, 0.0))[f.index]:
+                abs(f.stored - want[f.index]) <= allowed[f.index]:
             following.append(f)
     if len(following) < STORY * len(differing):
         return findings                     # not the built inputs' values: no such story
