@@ -393,6 +393,24 @@ def test_the_sae_fit_is_seireg_and_dandages_in_their_own_units():
     assert np.all(np.diff(grades, axis=0) > 0) and np.all(np.diff(grades, axis=1) < 0)
 
 
+def test_the_sheets_grade_words_are_calcs_grades_in_order():
+    """The choice's index picks the fit's constants in the sheet's CHOOSE and in calc:
+    the words and calc's table must be in one order."""
+    from crankbook.calc import lubricant
+    from crankbook.spec.loader import load
+    words = next(p.choices for p in load("engine").parameters if p.key == "oil_grade")
+    assert words == lubricant.OIL_GRADES
+    assert [int(w[3:]) for w in words[1:]] == list(lubricant.SAE_VISCOSITY_FIT)
+    # the sheet's own copy of the constants (its two CHOOSE lists) is calc's, grade by
+    # grade: the engines recompute only the grades the cross-check workbooks choose
+    import re
+    formula = next(q.formula for q in load("engine").quantities() if q.key == "film_viscosity")
+    lists = [[float(v) for v in body.split(",")] for body in
+             re.findall(r"CHOOSE\(MAX\(1,\{oil_grade\}-1\),([^)]*)\)", formula)]
+    assert lists == [[base for base, _ in lubricant.SAE_VISCOSITY_FIT.values()],
+                     [slope for _, slope in lubricant.SAE_VISCOSITY_FIT.values()]]
+
+
 @pytest.mark.parametrize("grade", sorted(J300_BANDS))
 def test_each_sae_grade_at_100c_sits_at_its_j300_band(grade):
     """The fit is of older straight grades and runs near the band's lower edge: within
