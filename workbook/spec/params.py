@@ -116,8 +116,9 @@ def coerce(parameter, value, where=""):
             raise ParameterValueError(f"{parameter.key}: give 1 to 64 values, not {len(value)}")
         return [parse_number(parameter.key, v) for v in value]
     if parameter.kind == "choice":
-        if isinstance(value, str) and parameter.choice_number(value.strip()):
-            return float(parameter.choice_number(value.strip()))
+        number = parameter.choice_number(value.strip()) if isinstance(value, str) else None
+        if number is not None:
+            return float(number)
         if isinstance(value, (int, float)) and not isinstance(value, bool) and \
                 float(value).is_integer() and 1 <= value <= len(parameter.choices):
             return float(value)
