@@ -132,15 +132,22 @@ def named(path, prefixes=("p_", "q_"), only=None):
     return copy.deepcopy(_NAMED[memo])
 
 
-def _read_named(path, prefixes, only=None):
+def _read_named(path, prefixes, only=None, computed=None):
     book = open_book(path)
+    source = computed if computed is not None else book
     out = {}
     for name, found in defined_ranges(book, prefixes).items():
         if only and name not in only:
             continue
-        values = cells(book, found)
+        values = cells(source, found)
         out[name] = values[0] if found.rows * found.cols == 1 else values
     return out
+
+
+def named_computed(path, computed, prefixes=("p_", "q_")):
+    """``named`` of the workbook ``path``, with the values an engine computed for it
+    (a recalc.computed_values item) in place of the ones stored in the file."""
+    return _read_named(path, prefixes, computed=computed)
 
 
 def edit_cells(source, target, edits, tables=None):

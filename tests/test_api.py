@@ -151,7 +151,7 @@ def test_verify_and_read_recalculated(tmp_path, soffice):
 
 @pytest.mark.parametrize("engine", ["libreoffice", "gnumeric"])
 def test_audit_accepts_files_the_engines_saved_unchanged(checked, engine):
-    for name in ("thesis", "course", "optimization"):
+    for name in ("thesis_step3", "course", "optimization"):
         spec, findings, recalculated, rule = audit_workbook(checked[name].saved[engine])
         assert not findings, (engine, name, findings[:3])
 

@@ -93,7 +93,7 @@ def test_giving_up_while_the_engine_runs_ends_the_engine(tmp_path, monkeypatch):
         return {}
 
     monkeypatch.setattr(recalc, "require_engine", lambda engine: "sleep")
-    monkeypatch.setattr(recalc, "convert", engine_stand_in)
+    monkeypatch.setattr(recalc, "computed_values", engine_stand_in)
     monkeypatch.setattr(verification, "read_results", no_q_names)
     try:
         verification.verify_workbooks([path], progress=False)

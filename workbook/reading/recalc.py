@@ -181,6 +181,50 @@ def convert(paths, outdir, target="xlsx", timeout=600, engine="libreoffice", can
     return outputs
 
 
+# LibreOffice's CSV filter: comma, double quote, UTF-8 (76), from line 1, every text
+# cell quoted (so text is told from numbers), values not as shown (full precision, no
+# format), no formulas, every sheet (-1) to its own <name>-<sheet>.csv
+LIBREOFFICE_CSV = 'csv:Text - txt - csv (StarCalc):44,34,76,1,,0,true,true,false,false,false,-1'
+GNUMERIC_CSV = ["-S", "--export-type=Gnumeric_stf:stf_assistant",
+                "-O", "format=raw separator=, quoting-mode=auto"]
+
+
+def computed_values(paths, outdir, timeout=600, engine="libreoffice", cancel=None):
+    """Recalculate each of ``paths`` in ``engine`` and return what it computed, one
+    engine_values.ComputedValues per path: the engine writes every sheet's values as
+    CSV, which costs it half of saving the workbook (see engine_values).  The
+    workbooks are copied in under numbered names first, so no two files' sheets can
+    meet under one CSV name."""
+    from crankbook.reading.engine_values import ComputedValues
+    program = require_engine(engine)
+    sweep_temporary()
+    outdir = Path(outdir)
+    staged = outdir / "in"
+    staged.mkdir(parents=True, exist_ok=True)
+    inputs = []
+    for number, path in enumerate(paths):
+        inputs.append(staged / f"{number:05d}.xlsx")
+        shutil.copyfile(path, inputs[-1])
+    if engine == "gnumeric":
+        with temporary_directory("gnumeric") as home:
+            for source in inputs:
+                _run([program, "--recalc", *GNUMERIC_CSV, str(source),
+                      str(outdir / f"{source.stem}-%s.csv")], timeout, home, cancel)
+    else:
+        with temporary_directory("lo") as profile:
+            _run([program, f"-env:UserInstallation={make_profile(profile)}", "--headless",
+                  "--norestore", "--nolockcheck", "--convert-to", LIBREOFFICE_CSV,
+                  "--outdir", str(outdir)] + [str(p) for p in inputs], timeout, profile, cancel)
+    out = []
+    for path, source in zip(paths, inputs):
+        found = {file.name[len(source.stem) + 1:-len(".csv")]: file
+                 for file in outdir.glob(f"{source.stem}-*.csv")}
+        if not found:
+            raise RecalculationError(f"{engine} computed nothing for {path}")
+        out.append(ComputedValues(path, found))
+    return out
+
+
 def distinct_inputs(paths, tmp):
     """The paths, copied under distinct names where two share a file name (an engine
     writes each output under its input's name, so two a.xlsx would overwrite)."""

@@ -1,7 +1,9 @@
 """Check a workbook's formulas in a real spreadsheet engine against numpy.
 
 The engine recalculates the file (LibreOffice with recalculation forced, or
-Gnumeric); every q_ name read back is compared, by crankbook.reading.compare's one rule,
+Gnumeric) and writes the values it computed (recalc.computed_values: every sheet as
+CSV, half the engine's time of saving the workbook); every q_ name, read there through
+the workbook's own defined names, is compared by crankbook.reading.compare's one rule
 with the calc functions evaluated on the workbook's own inputs.
 """
 from concurrent.futures import ThreadPoolExecutor
@@ -12,7 +14,7 @@ from crankbook.reading import recalc
 from crankbook.reading.compare import compare, noise_floors
 from crankbook.errors import CrankbookError, WorkbookReadError
 from crankbook.spec.evaluate import evaluate
-from crankbook.reading.workbook_reader import load_named, open_book, defined_ranges, read_results
+from crankbook.reading.workbook_reader import load_named, read_results
 from crankbook.support.progress import steps, waiting
 from crankbook.support.workspace import temporary_directory
 
@@ -43,10 +45,10 @@ def verify_workbooks(paths, engine="libreoffice", workdir=None, progress=None):
               for path in steps(paths, "verify: opening", progress=progress)]  # engine idle
     frames = []
     with temporary_directory("verify", workdir) as tmp:
-        inputs = recalc.distinct_inputs(paths, tmp)
         with ThreadPoolExecutor(max_workers=1) as pool:
             cancel = recalc.Cancel()
-            engine_run = pool.submit(recalc.convert, inputs, tmp, engine=engine, cancel=cancel)
+            engine_run = pool.submit(recalc.computed_values, paths, tmp, engine=engine,
+                                     cancel=cancel)
             try:
                 loaded = [_loaded(path, named) for path, named in
                           steps(opened, "verify: reading", progress=progress)]
@@ -74,13 +76,13 @@ def _loaded(path, named):
     return path, named, cached, expected
 
 
-def _compared(path, named, cached, expected_floors, converted, engine):
+def _compared(path, named, cached, expected_floors, computed, engine):
+    """``computed``: the engine's values (engine_values.ComputedValues), read through
+    the names of the workbook it computed."""
     book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
-    book_after = open_book(converted)
-    ranges_after = defined_ranges(book_after)
-    recalculated = read_results(book_after, spec, ranges_after, path, sizes, grid_rows)
-    status = _single(book_after, ranges_after, "q_input_status")
-    valid = _single(book_after, ranges_after, "q_inputs_valid")
+    recalculated = read_results(computed, spec, ranges, path, sizes, grid_rows)
+    status = _single(computed, ranges, "q_input_status")
+    valid = _single(computed, ranges, "q_inputs_valid")
     expected, floors = expected_floors
     rows = []
     if expected is not None:
