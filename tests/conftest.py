@@ -57,7 +57,7 @@ ENGINE_FIXTURES = {"soffice": "libreoffice", "ssconvert": "gnumeric",
 @pytest.hookimpl(tryfirst=True)     # before xdist reads the groups into the node ids
 def pytest_collection_modifyitems(items):
     """Mark every test that reaches a spreadsheet engine (``./dev test --quick`` leaves
-    them out) and group tests for two workers: the users of the shared cross-check
+    them out) and group tests for the workers: the users of the shared cross-check
     fixture together (it is built once per worker), a file with module fixtures on
     one worker; every other test goes wherever a worker is free."""
     for item in items:

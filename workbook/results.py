@@ -357,9 +357,9 @@ def read_workbooks(paths, recalculate=False, progress=None):
     from crankbook.support.progress import steps, waiting
     from crankbook.support.workspace import temporary_directory
     if not recalculate:
-        return [Results(**stored_results(p, p)) for p in steps(paths, "read", progress=progress)]
+        return [Results(**stored_results(p)) for p in steps(paths, "read", progress=progress)]
     with temporary_directory("read") as tmp:
         with waiting(f"read: recalculating {len(paths)} workbook(s) in LibreOffice", progress):
-            converted = recalc.convert(recalc.distinct_inputs(paths, tmp), tmp)
-        return [Results(**stored_results(c, p))
-                for p, c in steps(list(zip(paths, converted)), "read", progress=progress)]
+            computed = recalc.computed_values(paths, tmp)
+        return [Results(**stored_results(p, c))
+                for p, c in steps(list(zip(paths, computed)), "read", progress=progress)]

@@ -322,18 +322,19 @@ def saved_without_values(book, spec, ranges):
     return False
 
 
-def stored_results(path, shown):
-    """The fields of a crankbook.results.Results holding the workbook's own values
-    (``shown``: the path its messages name, when ``path`` is a recalculated copy).
-    A file saved without calculated values (openpyxl writes formulas only) reads as
-    NaN: a CrankbookWarning says so in one line."""
+def stored_results(path, computed=None):
+    """The fields of a crankbook.results.Results holding the workbook's own values, or
+    with ``computed`` (recalc.computed_values' item for it) the values an engine
+    computed for it. A file saved without calculated values (openpyxl writes formulas
+    only) and read as it is reads as NaN: a CrankbookWarning says so in one line."""
     from crankbook.reading.compare import as_array
     book, spec, template, ranges, values, tables, grids, sizes, grid_rows = load_named(path)
-    if saved_without_values(book, spec, ranges):
-        warnings.warn(f"{Path(shown).name} holds no calculated values (saved by a program "
+    if computed is None and saved_without_values(book, spec, ranges):
+        warnings.warn(f"{Path(path).name} holds no calculated values (saved by a program "
                       f"that does not calculate, such as openpyxl): its q_ values read as NaN; "
                       f"read it with recalculate=True", CrankbookWarning, stacklevel=2)
-    stored = read_results(book, spec, ranges, shown, sizes, grid_rows)
+    stored = read_results(book if computed is None else computed, spec, ranges, path, sizes,
+                          grid_rows)
     results = {}
     for q in spec.quantities():
         raw = stored.get(f"q_{q.key}")
