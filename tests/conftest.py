@@ -144,6 +144,22 @@ def _read_named(path, prefixes, only=None, computed=None):
     return out
 
 
+class Recalculated:
+    """A workbook as LibreOffice recalculates it, read from the engine's values
+    (recalc.computed_values): ``names`` as ``named`` gives them, ``cell(sheet, row,
+    col)`` any cell — no saved copy for openpyxl to load."""
+
+    def __init__(self, path, tmp, engine="libreoffice"):
+        from crankbook.reading import recalc
+        self.path = Path(path)
+        self.values = recalc.computed_values([path], Path(tmp), engine=engine)[0]
+        self.names = named_computed(path, self.values)
+        self.sheetnames = open_book(path).sheetnames
+
+    def cell(self, sheet, row, col):
+        return self.values.values(sheet, row, col, row, col)[0]
+
+
 def named_computed(path, computed, prefixes=("p_", "q_")):
     """``named`` of the workbook ``path``, with the values an engine computed for it
     (a recalc.computed_values item) in place of the ones stored in the file."""

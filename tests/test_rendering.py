@@ -10,6 +10,7 @@ import zipfile
 import numpy as np
 import openpyxl
 import pytest
+from openpyxl.utils import coordinate_to_tuple
 
 from crankbook import compute
 
@@ -17,7 +18,8 @@ from crankbook.reading import recalc
 from crankbook.spec.loader import load as load_spec
 from crankbook.support.toml_files import names_in
 from crankbook.writer.charts import FRAME_LABEL, Frame
-from tests.conftest import ROOT, column_width, named, run_cli, run_program, unwrapped_texts
+from tests.conftest import (ROOT, Recalculated, column_width, named, run_cli, run_program,
+                            unwrapped_texts)
 
 pytestmark = pytest.mark.libreoffice
 PRESETS = names_in("presets")
@@ -411,16 +413,14 @@ def test_the_polar_frame_follows_an_edited_speed(tmp_path, soffice, speed):
     built = compute("thesis", step=4)          # a coarse grid: the same live frame, faster
     built.to_excel(path, lang="en")
     _set_value(path, "p_speed", speed)
-    after = recalc.convert([path], tmp_path / "lo")[0]
-    values = named(after)
+    after = Recalculated(path, tmp_path / "lo")
+    values = after.names
     tangential = np.array(values["q_crankpin_load_tangential"], dtype=float).ravel()
     radial = np.array(values["q_crankpin_load_radial"], dtype=float).ravel()
-    book = openpyxl.load_workbook(after, data_only=True)
-    sheet = next(book[n] for n in book.sheetnames
-                 if any(book[n].cell(6, c).value == FRAME_LABEL["en"] for c in range(1, 40)))
-    col = next(c for c in range(1, 40) if sheet.cell(6, c).value == FRAME_LABEL["en"])
-    x0, x1 = sheet.cell(8, col + 1).value, sheet.cell(8, col + 2).value
-    y0, y1 = sheet.cell(9, col + 1).value, sheet.cell(9, col + 2).value
+    sheet, col = next((n, c) for n in after.sheetnames for c in range(1, 40)
+                      if after.cell(n, 6, c) == FRAME_LABEL["en"])
+    x0, x1 = after.cell(sheet, 8, col + 1), after.cell(sheet, 8, col + 2)
+    y0, y1 = after.cell(sheet, 9, col + 1), after.cell(sheet, 9, col + 2)
     assert x1 - x0 == pytest.approx(y1 - y0)                      # square
     assert x0 <= tangential.min() and tangential.max() <= x1      # never clipped
     assert y0 <= radial.min() and radial.max() <= y1
@@ -498,11 +498,12 @@ def test_a_mode_the_grid_does_not_reach_says_so_in_the_legend(tmp_path, soffice)
     assert modes(names.values()) == {1: (3, 0), 2: (3, 3), 3: (3, 3)}
     edited = tmp_path / "edited.xlsx"
     edit_cells(path, edited, {"holzer_max_frequency": 1200.0})
-    after = openpyxl.load_workbook(recalc.convert([edited], tmp_path / "lo")[0], data_only=True)
+    after = Recalculated(edited, tmp_path / "lo")
     live = {}
     for ref in names:
         sheet, cell = ref.split("!")
-        live[ref] = after[sheet.strip("'")][cell.replace("$", "")].value
+        row, col = coordinate_to_tuple(cell.replace("$", ""))
+        live[ref] = after.cell(sheet.strip("'"), row, col)
     assert modes(live.values()) == {1: (3, 0), 2: (3, 0), 3: (3, 3)}
 
 
@@ -572,20 +573,17 @@ def test_the_summary_names_the_cause_and_the_engine(tmp_path, soffice):
     broken rule in words and every further one by its key — not a consequence (the
     Holzer grid found nothing); the key data give the cylinder count, the displacement
     and the firing order, live."""
+    from tests.conftest import edit_cells
     path = tmp_path / "i6.xlsx"
     compute("inline-6", step=30.0).to_excel(path, lang="en")
-    book = openpyxl.load_workbook(path)
-    for name, value in (("p_rod_length", 10), ("p_bore", -5)):
-        sheet, cell = next(iter(book.defined_names[name].destinations))
-        book[sheet][cell.replace("$", "")] = value
-    book.save(tmp_path / "broken.xlsx")
-    fine, broken = recalc.convert([path, tmp_path / "broken.xlsx"], tmp_path / "lo")
-    line = openpyxl.load_workbook(broken, data_only=True)["Summary"]["A3"].value
+    edit_cells(path, tmp_path / "broken.xlsx", {"rod_length": 10, "bore": -5})
+    fine, broken = recalc.computed_values([path, tmp_path / "broken.xlsx"], tmp_path / "lo")
+    line = broken.values("Summary", 3, 1, 3, 1)[0]
     assert line.startswith("✗ bore must be > 0"), line
     assert "every broken rule" in line and "check_rod_long_enough" in line, line
     assert "Holzer" not in line
-    summary = openpyxl.load_workbook(fine, data_only=True)["Summary"]
-    shown = {summary.cell(r, 1).value: summary.cell(r, 4).value for r in range(4, 24)}
+    labels, shown = fine.values("Summary", 4, 1, 23, 1), fine.values("Summary", 4, 4, 23, 4)
+    shown = dict(zip(labels, shown))
     assert shown["Number of cylinders Z"] == 6
     assert shown["Engine displacement V = Z·πD²/4·S"] == pytest.approx(
         6 * np.pi / 4 * 0.88 ** 2 * 1.0, rel=1e-12)                      # litres
