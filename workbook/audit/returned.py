@@ -54,8 +54,9 @@ def audit_workbook(path, workdir=None):
     """(spec, findings, recalculated, rule_message) for the workbook at ``path``.
 
     The file is opened once (one time limit for all of it); a file saved without
-    values is recalculated in LibreOffice first.  When its inputs break a rule, the
-    results that hang on them must be blank (``rule_message`` says why).
+    values is recalculated in LibreOffice first, and its cells are then read from the
+    values LibreOffice computed (recalc.computed_values).  When its inputs break a rule,
+    the results that hang on them must be blank (``rule_message`` says why).
     """
     loaded = load_named(path)
     book, spec, ranges = loaded[0], loaded[1], loaded[3]
@@ -63,8 +64,8 @@ def audit_workbook(path, workdir=None):
     try:
         if recalculated:
             with temporary_directory("audit", workdir) as tmp:
-                converted = recalc.convert([path], tmp)[0]
-                return _audit(loaded, load_named(converted), recalculated)
+                computed = recalc.computed_values([path], tmp)[0]
+                return _audit(loaded, (computed, *loaded[1:]), recalculated)
         return _audit(loaded, loaded, recalculated)
     except (IndexError, ValueError, ZeroDivisionError, OverflowError) as error:
         # a damaged file whose grid or inputs still read as numbers (a grid of four
@@ -151,9 +152,9 @@ def _audit(original, calculated, recalculated):
             elif abs(stored - target) > allowed[i]:
                 findings.append(CellFinding(address, name, stored, target, DIFFERS, i))
     if rule_message is None and not recalculated:
-        findings = _stale(findings, spec, values, tables, grids, book)
-    return spec, _missing_inputs(spec, ranges, book) + _grouped(findings), recalculated, \
-        rule_message
+        findings = _stale(findings, spec, values, tables, grids, formula_book)
+    return spec, _missing_inputs(spec, ranges, formula_book) + _grouped(findings), \
+        recalculated, rule_message
 
 
 def _missing_inputs(spec, ranges, book):
