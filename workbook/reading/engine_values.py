@@ -8,7 +8,7 @@ LibreOffice takes 13 s to load, recalculate and save the thesis workbook at 3°,
 blocks the defined names of the workbook they sent give.
 
 The CSV files are the engine's, written from a workbook that passed the bounded
-reader; they are still read with limits (each file's size, only the rows asked for).
+reader; each is still refused above a size limit before it is read.
 A cell reads as the .xlsx reader gives it: a float, a str (text, or an error such as
 ``#DIV/0!``), a bool, or None when empty.  LibreOffice quotes every text cell, so its
 text is told from its numbers exactly; Gnumeric quotes only what needs it, so a text
@@ -43,10 +43,10 @@ def _bare(text):
     return text
 
 
-def parse_rows(text, last_row):
-    """The first ``last_row`` rows of a CSV text as lists of cell values."""
+def parse_rows(text):
+    """The rows of a CSV text as lists of cell values."""
     rows, row, position, end = [], [], 0, len(text)
-    while len(rows) < last_row:
+    while position < end:
         match = FIELD.match(text, position)
         if match is None:
             raise Unreadable(f"the engine's CSV is malformed in line {len(rows) + 1}")
@@ -56,8 +56,8 @@ def parse_rows(text, last_row):
         if stop != ",":
             rows.append(row)
             row = []
-            if stop == "" or position >= end:
-                break
+    if row:                              # the text ended on a comma: an empty last cell
+        rows.append(row + [None])
     return rows
 
 
@@ -70,11 +70,13 @@ class ComputedValues:
         ``sheet_files``: sheet name -> the engine's CSV of that sheet."""
         self.path = Path(path)
         self.sheet_files = dict(sheet_files)
-        self._rows = {}                  # sheet -> rows parsed so far
+        self._rows = {}                  # sheet -> its rows, once parsed
 
-    def _sheet_rows(self, sheet, last_row):
+    def _sheet_rows(self, sheet):
+        """The sheet's rows, parsed once (the whole file: a workbook's names reach
+        most of its rows, and one pass over a file is cheaper than several)."""
         rows = self._rows.get(sheet)
-        if rows is not None and (len(rows) >= last_row or rows.complete):
+        if rows is not None:
             return rows
         file = self.sheet_files.get(sheet)
         if file is None:
@@ -82,22 +84,15 @@ class ComputedValues:
         if file.stat().st_size > MAX_SHEET_FILE:
             raise Unreadable(f"the engine's values of sheet {sheet!r} exceed "
                              f"{MAX_SHEET_FILE // 2 ** 20} MB")
-        text = file.read_text(encoding="utf-8-sig", errors="replace")
-        rows = _Rows(parse_rows(text, last_row))
-        rows.complete = len(rows) < last_row
-        self._rows[sheet] = rows
+        rows = self._rows[sheet] = parse_rows(file.read_text(encoding="utf-8-sig",
+                                                             errors="replace"))
         return rows
 
     def values(self, sheet, min_row, min_col, max_row, max_col):
         """Cell values row by row (None for empty cells), as XlsxBook.values."""
-        rows = self._sheet_rows(sheet, max_row)
+        rows = self._sheet_rows(sheet)
         out = []
         for r in range(min_row - 1, max_row):
             row = rows[r] if r < len(rows) else []
             out.extend(row[c] if c < len(row) else None for c in range(min_col - 1, max_col))
         return out
-
-
-class _Rows(list):
-    complete = False
-
