@@ -62,3 +62,40 @@ def test_a_sheet_the_engine_wrote_nothing_for_is_named(tmp_path):
 def test_a_malformed_line_is_refused_with_its_number(text):
     with pytest.raises(Unreadable, match="malformed in line 1"):
         parse_rows(text)
+
+
+def _renamed_sheet(source, target, name):
+    """``source`` saved as ``target`` with its first sheet renamed ``name`` in
+    workbook.xml (Excel, LibreOffice and xlsxwriter refuse such a name; a hand-made
+    file need not)."""
+    import re
+    import zipfile
+    with zipfile.ZipFile(source) as zin, zipfile.ZipFile(target, "w") as zout:
+        for item in zin.infolist():
+            data = zin.read(item)
+            if item.filename == "xl/workbook.xml":
+                data = re.sub(rb'(<sheet [^>]*?name=")[^"]*"',
+                              lambda match: match.group(1) + name + b'"', data, count=1)
+            zout.writestr(item, data)
+
+
+def test_a_sheet_name_that_would_be_a_path_is_refused_before_any_engine(tmp_path, ssconvert):
+    """Each sheet's values are written to <file>-<sheet>.csv, and Gnumeric resolves a
+    '..' in that name: a sheet named '../../../x' put x.csv outside the scratch folder.
+    A sheet name Excel would not allow is refused in one line, the engine never run."""
+    import crankbook
+    from tests.conftest import run_cli
+    built = crankbook.compute("offset-optimization").to_excel(tmp_path / "o.xlsx")
+    work = tmp_path / "deep" / "er"
+    work.mkdir(parents=True)
+    for number, name in enumerate([b"../../../x", b"a\\b", b"a:b"]):
+        hostile = work / f"h{number}.xlsx"
+        _renamed_sheet(built, hostile, name)
+        for command in (["verify", hostile, "--engine", "gnumeric"], ["audit", hostile]):
+            done = run_cli(*command)
+            assert done.returncode == 2, (command, done.stdout, done.stderr)
+            assert "not one Excel allows" in done.stderr and "Traceback" not in done.stderr
+            assert len(done.stderr.strip().splitlines()) == 1, done.stderr
+        with pytest.raises(crankbook.errors.CrankbookError, match="not one Excel allows"):
+            crankbook.read(hostile, recalculate=True)
+    assert not list(tmp_path.rglob("x.csv")) and not list(tmp_path.rglob("*.csv"))

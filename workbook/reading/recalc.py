@@ -196,7 +196,10 @@ def computed_values(paths, outdir, timeout=600, engine="libreoffice", cancel=Non
     workbooks are copied in under numbered names first, so no two files' sheets can
     meet under one CSV name."""
     from crankbook.reading.engine_values import ComputedValues
+    from crankbook.reading.workbook_reader import open_book
     program = require_engine(engine)
+    for path in paths:                    # sheet names become file names: Excel's only
+        open_book(path).close()           # (WorkbookReadError naming the file otherwise)
     sweep_temporary()
     outdir = Path(outdir)
     staged = outdir / "in"

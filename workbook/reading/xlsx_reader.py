@@ -40,6 +40,7 @@ MACRO_TYPES = ("vbaProject", "macroEnabled", "activeX", "ms-office.vbaProject", 
 MACRO_MAGIC = (OLE_MAGIC, b"Attribute VB_Name")
 DECLARATION = re.compile(rb"<!\s*(DOCTYPE|ENTITY)", re.I)
 CELL = re.compile(r"([A-Z]{1,3})([0-9]{1,7})\Z")
+SHEET_NAME_FORBIDDEN = re.compile(r"[/\\?*\[\]:]")     # Excel refuses these in a name
 AREA = re.compile(r"\$?([A-Z]{1,3})\$?([0-9]{1,7}):\$?([A-Z]{1,3})\$?([0-9]{1,7})\Z")
 MAX_ARRAYS = 10_000                   # array formulas kept per sheet
 # LibreOffice writes every shared formula out in full: its recalculated copy of a
@@ -258,6 +259,11 @@ class XlsxBook:
                              f"crankbook wrote")
         for sheet in sheets:
             name = sheet.get("name")
+            if name is None or not name or SHEET_NAME_FORBIDDEN.search(name):
+                # Excel's rule; an engine that writes each sheet to <file>-<sheet>.csv
+                # would otherwise put a '../' sheet outside its folder
+                raise Unreadable(f"sheet name {name!r} is not one Excel allows (empty, or "
+                                 f"holding one of / \\ ? * [ ] :)")
             target, kind = targets.get(sheet.get(f"{{{REL}}}id"), ("", ""))
             self.sheetnames.append(name)
             if kind.endswith("/chartsheet"):
