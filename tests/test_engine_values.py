@@ -99,3 +99,34 @@ def test_a_sheet_name_that_would_be_a_path_is_refused_before_any_engine(tmp_path
         with pytest.raises(crankbook.errors.CrankbookError, match="not one Excel allows"):
             crankbook.read(hostile, recalculate=True)
     assert not list(tmp_path.rglob("x.csv")) and not list(tmp_path.rglob("*.csv"))
+
+
+def test_a_libreoffice_that_writes_one_sheet_saves_the_workbook_instead(tmp_path, soffice,
+                                                                         monkeypatch):
+    """LibreOffice before 7.2 has no 'every sheet' in its CSV filter and writes the
+    first sheet only, as <file>.csv: its values are then read from the workbook it
+    saves back, and verify agrees as it did before it asked for CSV."""
+    import crankbook
+    from crankbook.reading import recalc
+    path = crankbook.compute("offset-optimization").to_excel(tmp_path / "o.xlsx")
+    monkeypatch.setattr(recalc, "LIBREOFFICE_CSV", recalc.LIBREOFFICE_CSV.rsplit(",", 1)[0])
+    values, = recalc.computed_values([path], tmp_path / "lo")
+    assert values.path == path and not list((tmp_path / "lo").glob("*-*.csv"))
+    frame = crankbook.verify(path)
+    assert frame["ok"].all() and frame.attrs["valid"] == 1
+
+
+def test_two_files_of_one_name_keep_their_own_values(tmp_path, soffice):
+    """An engine names each sheet's CSV after its workbook: two o.xlsx from two folders
+    are computed from numbered copies, so neither reads the other's values."""
+    import crankbook
+    from crankbook.reading import recalc
+    from tests.conftest import named_computed
+    paths = []
+    for folder, speed in (("a", 2000.0), ("b", 4000.0)):
+        (tmp_path / folder).mkdir()
+        paths.append(crankbook.compute("thesis", step=6.0, speed=speed).to_excel(
+            tmp_path / folder / "o.xlsx"))
+    computed = recalc.computed_values(paths, tmp_path / "lo")
+    speeds = [named_computed(p, v)["q_angular_velocity"] for p, v in zip(paths, computed)]
+    assert speeds == pytest.approx([2000 * 3.141592653589793 / 30, 4000 * 3.141592653589793 / 30])

@@ -194,7 +194,8 @@ def computed_values(paths, outdir, timeout=600, engine="libreoffice", cancel=Non
     engine_values.ComputedValues per path: the engine writes every sheet's values as
     CSV, which costs it half of saving the workbook (see engine_values).  The
     workbooks are copied in under numbered names first, so no two files' sheets can
-    meet under one CSV name."""
+    meet under one CSV name.  An older LibreOffice, which writes one sheet only, saves
+    the workbook back instead (an XlsxBook, with the same ``values``)."""
     from crankbook.reading.engine_values import ComputedValues
     from crankbook.reading.workbook_reader import open_book
     program = require_engine(engine)
@@ -222,23 +223,21 @@ def computed_values(paths, outdir, timeout=600, engine="libreoffice", cancel=Non
     for path, source in zip(paths, inputs):
         found = {file.name[len(source.stem) + 1:-len(".csv")]: file
                  for file in outdir.glob(f"{source.stem}-*.csv")}
-        if not found:
+        if found:
+            out.append(ComputedValues(path, found))
+        elif engine == "libreoffice" and (outdir / f"{source.stem}.csv").is_file():
+            out.append(_saved_back(path, source, outdir, timeout, cancel))
+        else:
             raise RecalculationError(f"{engine} computed nothing for {path}")
-        out.append(ComputedValues(path, found))
     return out
 
 
-def distinct_inputs(paths, tmp):
-    """The paths, copied under distinct names where two share a file name (an engine
-    writes each output under its input's name, so two a.xlsx would overwrite)."""
-    seen, out = set(), []
-    for number, path in enumerate(paths):
-        path = Path(path)
-        if path.stem in seen:
-            copy = Path(tmp) / "in" / f"{number:05d}-{path.name}"
-            copy.parent.mkdir(exist_ok=True)
-            shutil.copy(path, copy)
-            path = copy
-        seen.add(path.stem)
-        out.append(path)
-    return out
+def _saved_back(path, source, outdir, timeout, cancel):
+    """The values of a workbook LibreOffice saved back as .xlsx, read by the bounded
+    reader: a LibreOffice before 7.2 writes only the first sheet as CSV (one
+    ``<file>.csv``, no sheet in its name), so its values are read as they were before
+    crankbook asked for CSV."""
+    from crankbook.reading.workbook_reader import open_book
+    book = open_book(convert([source], outdir / "saved", timeout=timeout, cancel=cancel)[0])
+    book.path = Path(path)                # messages name the user's file, not the copy
+    return book
