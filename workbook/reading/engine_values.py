@@ -13,8 +13,9 @@ A cell reads as the .xlsx reader gives it: a float, a str (text, or an error suc
 ``#DIV/0!``), a bool, or None when empty.  LibreOffice quotes every text cell, so its
 text is told from its numbers exactly; Gnumeric quotes only what needs it, so a text
 cell holding a number's digits reads as that number there (no crankbook result is
-such a text: the one that could be, a single cylinder's firing order "1", is
-compared as a number by neither route, being text).  LibreOffice writes a number
+such a text: its q_ names hold numbers, or words such as the status cell's; the
+firing order is a number per cylinder, joined as text only on the Summary, which no
+name reads).  LibreOffice writes a number
 formatted as a percentage or a date as it shows it ("33.3%", "1899-12-30"), so such a
 cell reads as text; crankbook formats none so (its formats are fixed decimals,
 exponents and words for 0 and 1, which LibreOffice writes as the number), and a
