@@ -5,6 +5,7 @@ number agrees with numpy, and verify.
 - ``xlsx_reader``      a bounded reader of hostile .xlsx files (sizes, entities, zips)
 - ``workbook_reader``  the p_/q_ values of a workbook crankbook wrote
 - ``recalc``           LibreOffice headless and ssconvert --recalc
+- ``engine_values``    what an engine computed, from its CSV of every sheet
 - ``compare``          the agreement rule (peak-relative with a rounding floor)
 - ``verification``     recalculate and compare every q_ name (crankbook verify)
 - ``pressure_file``    measured cylinder-pressure traces (.csv, .xlsx)
