@@ -154,7 +154,9 @@ class Recalculated:
         self.path = Path(path)
         self.values = recalc.computed_values([path], Path(tmp), engine=engine)[0]
         self.names = named_computed(path, self.values)
-        self.sheetnames = open_book(path).sheetnames
+        book = open_book(path)
+        self.sheetnames = book.sheetnames           # in the workbook's order
+        book.close()
 
     def cell(self, sheet, row, col):
         return self.values.values(sheet, row, col, row, col)[0]

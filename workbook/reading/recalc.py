@@ -1,10 +1,11 @@
 """Recalculate workbooks in a real spreadsheet engine: LibreOffice or Gnumeric.
 
 LibreOffice keeps the cached values of an .xlsx by default; a private profile
-whose OOXMLRecalcMode is 0 ("always") makes it recompute every formula, and
-converting the file back to .xlsx stores the recomputed values.  Gnumeric's
-``ssconvert --recalc`` recomputes before saving.  Each run gets its own profile
-and home directory, removed afterwards whatever happened.
+whose OOXMLRecalcMode is 0 ("always") makes it recompute every formula.  Gnumeric's
+``ssconvert --recalc`` recomputes before saving.  ``convert`` saves what an engine
+computed as a file (.xlsx, .pdf, …); ``computed_values`` has it write only the values,
+every sheet as CSV, in half the time — what verify, read and audit need.  Each run
+gets its own profile and home directory, removed afterwards whatever happened.
 """
 import os
 import shutil
