@@ -146,6 +146,21 @@ def sweep_reversed(sweep_speed_min, sweep_speed_max):
                  & (np.asarray(sweep_speed_min) >= sweep_speed_max))
 
 
+def shaft_strength_below_rule(shaft_tensile_strength):
+    """1 where M68's σ_B is typed (not 0 = the crankshaft's) below 400 MPa, the least
+    specified tensile strength of shaft steel M68 and the class rules take: a value in
+    GPa typed into the MPa cell, most likely."""
+    sigma = np.asarray(shaft_tensile_strength, dtype=float)
+    return _flag((sigma > 0) & (sigma < 400e6))
+
+
+def damper_inertia_implausible(damper_kind, damper_inertia, station_inertia):
+    """1 where a damper is fitted whose ring has more inertia [kg·m²] than the flywheel
+    (the last station): a ring is a small fraction of it, so kg·cm² typed for kg·m²."""
+    flywheel = np.asarray(station_inertia, dtype=float)[-1]
+    return _flag((np.asarray(damper_kind) > 0) & (np.asarray(damper_inertia) > flywheel))
+
+
 def damper_without_inertia(damper_kind, damper_inertia):
     """1 where a damper is chosen whose ring has no inertia."""
     return _flag((np.asarray(damper_kind) > 0) & (np.asarray(damper_inertia) == 0))
@@ -211,6 +226,12 @@ def clearance_implausible(bearing_clearance, crankpin_diameter, main_journal_dia
     """1 where the radial clearance is below 0.02 % of a journal's diameter, a fifth
     of the usual least: a clearance in mm typed into the µm cell."""
     return _flag(bearing_clearance < 0.0002 * np.minimum(crankpin_diameter, main_journal_diameter))
+
+
+def film_allowable_implausible(min_film_allowable):
+    """1 where the allowable minimum film is below 0.1 µm, a tenth of the usual floor
+    and thinner than a ground journal's roughness: mm typed into the µm cell."""
+    return _flag(np.asarray(min_film_allowable) < 0.1e-6)
 
 
 def viscosity_implausible(oil_viscosity):

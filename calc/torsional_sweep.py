@@ -409,12 +409,18 @@ def rated_speed_used(rated_speed, operating_speed):
     return sweep_bound(rated_speed, operating_speed, highest=True)
 
 
-def stress_limit(sweep_speed, rated_speed_used, shaft_tensile_strength, m68_ck,
+def m68_tensile_strength(shaft_tensile_strength, tensile_strength):
+    """σ_B of M68's limit: typed, or 0 = the crankshaft material's, the one M53 reads
+    (one material, one strength) [Pa]."""
+    return shaft_tensile_strength if shaft_tensile_strength > 0 else tensile_strength
+
+
+def stress_limit(sweep_speed, rated_speed_used, m68_tensile_strength, m68_ck,
                  main_journal_diameter):
     """IACS UR M68's τ_C at each sweep speed, λ = n/n_0 held at 1.05 above [Pa]."""
     speed = np.ravel(sweep_speed).astype(float)
     ratio = np.minimum(speed / rated_speed_used, 1.05)
-    limit = forced_torsion.m68_continuous_limit(shaft_tensile_strength, m68_ck,
+    limit = forced_torsion.m68_continuous_limit(m68_tensile_strength, m68_ck,
                                                 main_journal_diameter, ratio)
     return np.where(np.isfinite(speed), limit, np.nan)        # a blank row stays blank
 

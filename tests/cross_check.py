@@ -58,7 +58,9 @@ WORKBOOKS = {
                                     "oil_viscosity": 6.0, "oil_groove_width": 3.0,
                                     "station_inertia_typed": [0.3, 1.2, 0.7],
                                     "section_stiffness_typed": [2.0e5, 3.5e5],
-                                    "holzer_step": 1.0}},
+                                    "holzer_step": 1.0,
+                                    # M68's own σ_B typed over the crankshaft's
+                                    "shaft_tensile_strength": 700.0}},
     # … and a Holzer grid too fine to reach the first mode: blank, and the status says why
     # … and a bush that turns loose when warm: its fit check blank, the rod failed
     # … and a 200 µm gap with 2 mPa·s oil whose big-end film breaks down: rows held
@@ -68,7 +70,9 @@ WORKBOOKS = {
                                                                 "oil_viscosity": 2.0,
                                                                 "holzer_step": 0.001,
                                                                 "bush_interference": 0.0,
-                                                                "bush_expansion": 6.0}},
+                                                                "bush_expansion": 6.0,
+                                                                # … and an allowable film typed in mm
+                                                                "min_film_allowable": 0.001}},
     "thesis_edit_trace": {"edit_of": "thesis_step3", "edits": {"pressure_source": 1.0},
                           "tables": {"trace_crank_angle": PASTED_TRACE,
                                      "trace_pressure": 0.12 + 3.0 * np.exp(

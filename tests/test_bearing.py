@@ -450,6 +450,24 @@ def test_bad_bearing_inputs_are_one_line(tmp_path, values, words):
     assert_build_refused_in_one_line(tmp_path, "thesis", values, words)
 
 
+@pytest.mark.parametrize("inputs,flag,words", [
+    ({"bearing_clearance": 0.03}, "clearance_implausible", "mm typed into the µm cell"),
+    ({"oil_viscosity": 0.01}, "viscosity_implausible", "typed in Pa·s"),
+    ({"min_film_allowable": 0.001}, "film_allowable_implausible", "mm typed into the µm cell"),
+])
+def test_a_bearing_value_in_the_wrong_unit_is_warned_and_built(inputs, flag, words):
+    """Legal but a slip: 0.03 (mm) for a 30 µm clearance, 0.01 (Pa·s) for 10 mPa·s, 0.001
+    (mm) for a 1 µm allowable film.  A warning naming the likely unit, the flag set,
+    the workbook still computed; the typed-right value raises neither."""
+    import warnings
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        slipped = crankbook.compute("thesis", step=5.0, **inputs)
+    assert slipped.scalars[flag] == 1
+    assert any(words in str(w.message) for w in caught), [str(w.message) for w in caught]
+    assert crankbook.compute("thesis", step=5.0).scalars[flag] == 0
+
+
 def test_the_orbit_file_is_the_workbooks_second_cycle(tmp_path):
     """`export bearing`: one row per angle of the second cycle and bearing, the film
     c·(1 − |e/c|) of the row's own components, as the workbook holds them."""

@@ -20,6 +20,8 @@ BAD_SETS = [
     (["--set", "exact_kinematics=0", "--set", "offset=5"], "centric mechanism only"),
     (["--set", "exact_kinematics=2"], "must be 0 or 1"),
     (["--set", "pressure_source=1"], "pressure_source = 1 needs a measured trace"),
+    (["--preset", "inline-4", "--set", "shaft_tensile_strength=0.8"],
+     "must be 0 (the crankshaft material's p_tensile_strength) or at least 400 MPa"),
     (["--preset", "nosuch"], "unknown preset 'nosuch'"),
     (["--step", "7"], "must divide 720"),
     (["--step", "-1"], "the grid step must be ≥ 0.1"),

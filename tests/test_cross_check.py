@@ -152,6 +152,19 @@ def test_a_bush_loose_when_warm_fails_the_rod_and_says_why(checked, engine):
     assert "p_bush_interference" in recalculated["q_input_status"]
 
 
+@pytest.mark.parametrize("engine", ENGINES)
+def test_slips_typed_into_the_cells_are_named_in_the_status_cell(checked, engine):
+    """An allowable film typed in mm is a slip the status cell names (the results stand);
+    M68's σ_B typed over the crankshaft's is the one its limit reads."""
+    exact = checked["thesis_edit_exact"].engines[engine]
+    assert exact["q_film_allowable_implausible"] == 1 and exact["q_inputs_valid"] == 1
+    assert "mm typed into the µm cell? (1 µm is typed 1)" in exact["q_input_status"]
+    assert checked["thesis_step3"].engines[engine]["q_film_allowable_implausible"] == 0
+    assert checked["thesis_edit_speed"].engines[engine]["q_m68_tensile_strength"] == 700
+    assert checked["thesis_step3"].engines[engine]["q_m68_tensile_strength"] == \
+        checked["thesis_step3"].engines[engine]["p_tensile_strength"]
+
+
 def test_a_workbook_libreoffice_saved_is_read_by_the_users_commands(checked, tmp_path):
     """An engineer edits the inline-6 in LibreOffice and saves it: the engine writes
     every shared formula out, past the limits of a class's files, and export still

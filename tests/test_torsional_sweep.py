@@ -284,6 +284,34 @@ def test_export_torsion_writes_the_forced_response(tmp_path):
     assert largest == pytest.approx(list(back["alternating_torque_journal"]))
 
 
+def test_m68_reads_the_crankshafts_one_tensile_strength():
+    """One material, one σ_B: with p_shaft_tensile_strength at 0 M68's limit moves with
+    the p_tensile_strength M53 reads, as (σ_B + 160); a typed value takes over."""
+    def limit(**inputs):
+        r = crankbook.compute("inline-4", step=30.0, **inputs)
+        return float(r["m68_tensile_strength"]), np.nanmax(_rows(r, "sweep_stress_limit"))
+    default, weak, typed = limit(), limit(tensile_strength=600.0), limit(
+        tensile_strength=600.0, shaft_tensile_strength=1000.0)
+    assert (default[0], weak[0], typed[0]) == (800.0, 600.0, 1000.0)
+    assert weak[1] / default[1] == pytest.approx((600 + 160) / (800 + 160), rel=1e-12)
+    assert typed[1] / default[1] == pytest.approx((1000 + 160) / (800 + 160), rel=1e-12)
+
+
+def test_a_damper_ring_typed_in_kg_cm2_is_warned():
+    """80 typed for an 80 kg·cm² ring (0.008 kg·m²) is a ring heavier than the flywheel:
+    a warning; the same ring typed in kg·m², or no damper fitted, none."""
+    import warnings
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        slipped = crankbook.compute("inline-4", step=30.0, damper_kind=1, damper_inertia=80.0)
+    assert slipped.scalars["damper_inertia_implausible"] == 1
+    assert any("kg·cm² typed into the kg·m² cell" in str(w.message) for w in caught)
+    for inputs in ({"damper_kind": 1, "damper_inertia": 0.008},
+                   {"damper_kind": 0, "damper_inertia": 80.0}):
+        assert crankbook.compute("inline-4", step=30.0,
+                                 **inputs).scalars["damper_inertia_implausible"] == 0
+
+
 def test_a_published_six_cylinder_diesel_peaks_where_its_measurement_does():
     """The MWM 6.10TCA diesel of Mendes, Meirelles and Zampieri (2008), "Analysis of
     torsional vibration in internal combustion engines: modelling and experimental
