@@ -228,6 +228,38 @@ def clearance_implausible(bearing_clearance, crankpin_diameter, main_journal_dia
     return _flag(bearing_clearance < 0.0002 * np.minimum(crankpin_diameter, main_journal_diameter))
 
 
+# a material constant a power of a thousand too small: GPa typed into an MPa cell, or a
+# coefficient per kelvin into a µm/(m·K) one.  No structural metal has a modulus below
+# 1 GPa (steel 210, bronze 115, its shear moduli 40–80), a strength below 20 MPa or an
+# expansion below 0.1 µm/(m·K) (invar's is about 1).
+LEAST_MODULUS = 1e9             # Pa
+LEAST_STRENGTH = 20e6           # Pa
+LEAST_EXPANSION = 0.1e-6        # 1/K
+
+
+def shear_modulus_in_gpa(shear_modulus):
+    """1 where the crankshaft's shear modulus G is below 1 GPa: GPa typed for MPa."""
+    return _flag(np.asarray(shear_modulus) < LEAST_MODULUS)
+
+
+def rod_moduli_in_gpa(rod_elastic_modulus, bush_elastic_modulus):
+    """1 where the rod's or its bush's elastic modulus is below 1 GPa: GPa typed for MPa."""
+    return _flag(np.minimum(rod_elastic_modulus, bush_elastic_modulus) < LEAST_MODULUS)
+
+
+def rod_strengths_in_gpa(rod_crushing_stress, rod_fatigue_limit):
+    """1 where the rod steel's crushing stress or fatigue limit is below 20 MPa: GPa
+    typed for MPa."""
+    return _flag(np.minimum(rod_crushing_stress, rod_fatigue_limit) < LEAST_STRENGTH)
+
+
+def expansions_per_kelvin(rod_expansion, bush_expansion):
+    """1 where the rod's or the bush's expansion coefficient is typed (not 0) below
+    0.1 µm/(m·K): a coefficient per kelvin (11e-6) typed for µm/(m·K) (11)."""
+    a = np.array([rod_expansion, bush_expansion], dtype=float)
+    return _flag(np.any((a > 0) & (a < LEAST_EXPANSION)))
+
+
 def film_allowable_implausible(min_film_allowable):
     """1 where the allowable minimum film is below 0.1 µm, a tenth of the usual floor
     and thinner than a ground journal's roughness: mm typed into the µm cell."""

@@ -321,3 +321,19 @@ def assert_build_refused_in_one_line(tmp_path, preset, sets, words):
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and words in lines[0], run.stderr
     assert "Traceback" not in run.stderr and not out.exists()
+
+
+def assert_slip_warned(preset, inputs, flag, words, step=5.0):
+    """A legal value an engineer rarely means (a unit slip): ``compute`` sets the
+    plausibility flag and warns in words naming the likely unit, and goes on; the
+    preset's own values raise neither."""
+    import warnings
+
+    import crankbook
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        slipped = crankbook.compute(preset, step=step, **inputs)
+    assert slipped.scalars[flag] == 1, flag
+    messages = [str(w.message) for w in caught]
+    assert any(words in m for m in messages), messages
+    assert crankbook.compute(preset, step=step).scalars[flag] == 0

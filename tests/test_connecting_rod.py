@@ -10,7 +10,7 @@ import pytest
 
 import crankbook
 from crankbook.calc import connecting_rod as rod
-from tests.conftest import assert_build_refused_in_one_line
+from tests.conftest import assert_build_refused_in_one_line, assert_slip_warned
 
 # ---------------------------------------------------------------- Khurmi & Gupta 32.3
 # "Design a connecting rod for an I.C. engine running at 1800 r.p.m. and developing a
@@ -248,3 +248,23 @@ def test_the_verdict_rows_are_named_for_their_checks():
     axis = load("engine").axis["rod_check"]
     assert len(axis.item_names_en) == len(axis.item_names_zh) == len(rod.CHECKS)
     assert axis.label("en", 8) == "Cap bending" and axis.label("zh", 8) == "连杆盖弯曲"
+
+
+@pytest.mark.parametrize("inputs,flag,words", [
+    ({"rod_elastic_modulus": 210.0}, "rod_moduli_implausible", "GPa typed into the MPa cell"),
+    ({"bush_elastic_modulus": 115.0}, "rod_moduli_implausible", "GPa typed into the MPa cell"),
+    ({"rod_crushing_stress": 0.785}, "rod_strengths_implausible", "(785 MPa is typed 785)"),
+    ({"rod_fatigue_limit": 0.3}, "rod_strengths_implausible", "(785 MPa is typed 785)"),
+    ({"rod_expansion": 11e-6}, "rod_expansions_implausible", "typed per kelvin?"),
+    ({"bush_expansion": 18e-6}, "rod_expansions_implausible", "typed per kelvin?"),
+])
+def test_a_rod_material_constant_in_the_wrong_unit_is_warned(inputs, flag, words):
+    """A modulus or a strength in GPa, an expansion per kelvin: legal, a thousand or a
+    million times off what any steel or bronze has; a warning naming the unit."""
+    assert_slip_warned("thesis", inputs, flag, words)
+
+
+def test_no_expansion_is_not_a_slip():
+    """0 (no thermal interference) is a choice, not a coefficient typed per kelvin."""
+    r = crankbook.compute("thesis", step=5.0, rod_expansion=0.0, bush_expansion=0.0)
+    assert r.scalars["rod_expansions_implausible"] == 0

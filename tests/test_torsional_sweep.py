@@ -10,6 +10,7 @@ import pytest
 
 import crankbook
 from crankbook.calc import forced_torsion as ft, torsional, torsional_sweep as ts
+from tests.conftest import assert_slip_warned
 
 ORDERS = np.arange(1, 25) / 2
 
@@ -300,16 +301,19 @@ def test_m68_reads_the_crankshafts_one_tensile_strength():
 def test_a_damper_ring_typed_in_kg_cm2_is_warned():
     """80 typed for an 80 kg·cm² ring (0.008 kg·m²) is a ring heavier than the flywheel:
     a warning; the same ring typed in kg·m², or no damper fitted, none."""
-    import warnings
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        slipped = crankbook.compute("inline-4", step=30.0, damper_kind=1, damper_inertia=80.0)
-    assert slipped.scalars["damper_inertia_implausible"] == 1
-    assert any("kg·cm² typed into the kg·m² cell" in str(w.message) for w in caught)
+    assert_slip_warned("inline-4", {"damper_kind": 1, "damper_inertia": 80.0},
+                       "damper_inertia_implausible", "kg·cm² typed into the kg·m² cell",
+                       step=30.0)
     for inputs in ({"damper_kind": 1, "damper_inertia": 0.008},
                    {"damper_kind": 0, "damper_inertia": 80.0}):
         assert crankbook.compute("inline-4", step=30.0,
                                  **inputs).scalars["damper_inertia_implausible"] == 0
+
+
+def test_a_shear_modulus_typed_in_gpa_is_warned():
+    """G = 80 (GPa) typed into the MPa cell would soften every section a thousandfold."""
+    assert_slip_warned("inline-4", {"shear_modulus": 80.0}, "shear_modulus_implausible",
+                       "GPa typed into the MPa cell? (80 GPa is typed 80000)", step=30.0)
 
 
 def test_a_published_six_cylinder_diesel_peaks_where_its_measurement_does():
