@@ -129,6 +129,17 @@ def trace_looks_like_bar(pressure_source, trace_pressure):
     return _flag((np.asarray(pressure_source) == 1) & (low > MIN_INTAKE_PRESSURE))
 
 
+MAX_GAS_EXCHANGE_PRESSURE = 0.6e6   # Pa: 6 bar, above any intake, exhaust or crankcase
+
+
+def gas_pressure_looks_like_bar(intake_pressure, exhaust_pressure, ambient_pressure):
+    """1 where the intake, exhaust or crankcase pressure is above 0.6 MPa, beyond the
+    boost and back pressure of any engine here: bar (0.95 at the intake, 1.1 at the
+    exhaust, 1 in the crankcase) typed as MPa."""
+    return _flag(max(intake_pressure, exhaust_pressure, ambient_pressure)
+                 > MAX_GAS_EXCHANGE_PRESSURE)
+
+
 def flywheel_implausible(station_inertia, bore):
     """1 where the flywheel station's inertia [kg·m²] (the last station) is below the
     crank throws' together — no flywheel is lighter than the crank it steadies — or
@@ -251,6 +262,12 @@ def rod_strengths_in_gpa(rod_crushing_stress, rod_fatigue_limit):
     """1 where the rod steel's crushing stress or fatigue limit is below 20 MPa: GPa
     typed for MPa."""
     return _flag(np.minimum(rod_crushing_stress, rod_fatigue_limit) < LEAST_STRENGTH)
+
+
+def crank_strengths_in_gpa(allowable_stress, fatigue_limit, fatigue_limit_torsion):
+    """1 where the crankshaft's allowable stress or a fatigue limit is below 20 MPa:
+    GPa typed for MPa."""
+    return _flag(min(allowable_stress, fatigue_limit, fatigue_limit_torsion) < LEAST_STRENGTH)
 
 
 def expansions_per_kelvin(rod_expansion, bush_expansion):

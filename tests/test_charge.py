@@ -7,7 +7,7 @@ import pytest
 import crankbook
 from crankbook.calc import charge, cycle
 from crankbook.errors import CrankbookError
-from tests.conftest import run_cli
+from tests.conftest import assert_slip_warned, run_cli
 
 
 @pytest.fixture(scope="module")
@@ -214,3 +214,12 @@ def test_bad_charge_inputs_are_one_line(tmp_path, setting, words):
     with pytest.raises(CrankbookError):
         key, value = setting.split("=")
         crankbook.compute("inline-4", **{key: value.split(",") if "," in value else value})
+
+
+@pytest.mark.parametrize("inputs", [{"intake_pressure": 0.95}, {"exhaust_pressure": 1.1},
+                                    {"ambient_pressure": 1.0}])
+def test_a_gas_exchange_pressure_typed_in_bar_is_warned(inputs):
+    """0.95 bar at the intake typed as 0.95 MPa charges the cylinder tenfold; 1.1 at
+    the exhaust turns the brake torque negative: a warning that says bar."""
+    assert_slip_warned("inline-4", inputs, "gas_pressure_looks_like_bar",
+                       "is it in bar? It must be in MPa (0.95 bar is typed 0.095)")

@@ -7,6 +7,7 @@ import pytest
 
 import crankbook
 from crankbook.errors import GeometryError, ParameterValueError
+from tests.conftest import assert_slip_warned
 
 
 @pytest.fixture(scope="module")
@@ -217,3 +218,12 @@ def test_the_crankshaft_inputs_stand_in_the_thesiss_order():
     keys = [p.key for p in load("engine").parameters if p.group == "crankshaft"]
     assert keys[:6] == ["main_journal_diameter", "main_journal_length", "crankpin_diameter",
                         "crankpin_length", "web_thickness", "web_width"]
+
+
+@pytest.mark.parametrize("inputs", [{"allowable_stress": 0.8}, {"fatigue_limit": 0.495},
+                                    {"fatigue_limit_torsion": 0.285}])
+def test_a_strength_typed_in_gpa_is_warned(inputs):
+    """0.495 (GPa) for σ₋₁ = 495 MPa would make every safety factor a thousand times
+    too small without a word."""
+    assert_slip_warned("thesis", inputs, "crank_strengths_implausible",
+                       "GPa typed into the MPa cell? (495 MPa is typed 495)")
