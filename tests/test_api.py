@@ -149,6 +149,31 @@ def test_verify_and_read_recalculated(tmp_path, soffice):
     assert done.returncode == 0, done.stdout
 
 
+def test_verify_names_what_a_workbook_does_not_define(tmp_path, ssconvert):
+    """A workbook built before a quantity existed lacks its name: verify lists it as not
+    in the workbook and says to rebuild, where it printed an infinite difference."""
+    path = crankbook.compute("thesis", step=12).to_excel(tmp_path / "t.xlsx")
+    older = tmp_path / "older.xlsx"
+    with zipfile.ZipFile(path) as source:
+        items = {n: source.read(n) for n in source.namelist()}
+    pattern = rb'<definedName name="q_gas_pressure_looks_like_bar"[^>]*>[^<]*</definedName>'
+    assert re.search(pattern, items["xl/workbook.xml"])
+    items["xl/workbook.xml"] = re.sub(pattern, b"", items["xl/workbook.xml"])
+    with zipfile.ZipFile(older, "w", zipfile.ZIP_DEFLATED) as target:
+        for name, data in items.items():
+            target.writestr(name, data)
+    frame = crankbook.verify(older, engine="gnumeric")
+    assert list(frame.name[frame.absent]) == ["q_gas_pressure_looks_like_bar"]
+    assert frame.ok[~frame.absent].all()
+    done = run_cli("verify", older, "--engine", "gnumeric")
+    assert done.returncode == 1, done.stdout
+    line = next(t for t in done.stdout.splitlines() if "q_gas_pressure_looks_like_bar" in t)
+    assert line.rstrip().endswith("NOT IN THE WORKBOOK")
+    assert f"1 of {len(frame)} names are not in the workbook" in done.stdout
+    assert "rebuild it with 'crankbook build'" in done.stdout
+    assert "differ from numpy" not in done.stdout and "DIFFERS" not in done.stdout
+
+
 @pytest.mark.parametrize("engine", ["libreoffice", "gnumeric"])
 def test_audit_accepts_files_the_engines_saved_unchanged(checked, engine):
     for name in ("thesis_step3", "course", "optimization"):

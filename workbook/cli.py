@@ -305,13 +305,22 @@ def _report_verified(path, frame):
         return 1
     print(f"  {'name':<46} {'cells':>6} {'worst |error|':>14} {'allowed':>10}  "
           f"{'cached':>7}  verdict")
-    for row in frame.sort_values("ratio", ascending=False).itertuples():
+    for row in frame.sort_values(["absent", "ratio"], ascending=[True, False]).itertuples():
+        if row.absent:
+            print(f"  {row.name:<46} {'':>6} {'–':>14} {'':>10}  {'':>7}  NOT IN THE WORKBOOK")
+            continue
         verdict = "ok" if row.ok else "DIFFERS"
         print(f"  {row.name:<46} {row.cells:>6} {row.error:>14.3g} {row.allowed:>10.2g}  "
               f"{'ok' if row.cached_ratio <= 1 else 'differs':>7}  {verdict}")
-    bad = frame[~frame.ok]
+    absent = int(frame.absent.sum())
+    bad = frame[~frame.ok & ~frame.absent]
     if len(bad):
         print(f"{len(bad)} of {len(frame)} names differ from numpy")
+    if absent:
+        print(f"{absent} of {len(frame)} names are not in the workbook: it was built before "
+              f"this crankbook computed them (or they were deleted); rebuild it with "
+              f"'crankbook build' to verify them")
+    if len(bad) or absent:
         return 1
     print(f"all {len(frame)} names agree with numpy")
     return 0

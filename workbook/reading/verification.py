@@ -89,12 +89,16 @@ def _compared(path, named, cached, expected_floors, computed, engine):
         now = {c.name: c for c in compare(spec, expected, recalculated, floors)}
         stored = {c.name: c for c in compare(spec, expected, cached, floors)}
         for name, c in now.items():
+            # a name this crankbook computes that the file does not define: a workbook
+            # built before the quantity existed (or one whose name was deleted) — not
+            # verified, and said so rather than reported as an infinite difference
             rows.append({"name": name, "unit": c.unit, "cells": c.cells, "error": c.error,
                          "allowed": c.allowed, "ratio": c.ratio,
-                         "cached_ratio": stored[name].ratio, "ok": c.ok})
+                         "cached_ratio": stored[name].ratio, "ok": c.ok,
+                         "absent": name not in ranges})
     import pandas as pd           # only here: the command line starts without it
     frame = pd.DataFrame(rows, columns=["name", "unit", "cells", "error", "allowed", "ratio",
-                                        "cached_ratio", "ok"])
+                                        "cached_ratio", "ok", "absent"])
     frame.attrs.update({"status": status, "valid": valid, "template": template,
                         "engine": engine, "inputs_break_rules": expected is None,
                         "path": str(path)})
