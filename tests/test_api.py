@@ -151,7 +151,8 @@ def test_verify_and_read_recalculated(tmp_path, soffice):
 
 def test_verify_names_what_a_workbook_does_not_define(tmp_path, ssconvert):
     """A workbook built before a quantity existed lacks its name: verify lists it as not
-    in the workbook and says to rebuild, where it printed an infinite difference."""
+    in the workbook and says to rebuild, where it printed an infinite difference; the
+    audit's finding says it may be an older workbook's as well as a deletion."""
     path = crankbook.compute("thesis", step=12).to_excel(tmp_path / "t.xlsx")
     older = tmp_path / "older.xlsx"
     with zipfile.ZipFile(path) as source:
@@ -172,6 +173,11 @@ def test_verify_names_what_a_workbook_does_not_define(tmp_path, ssconvert):
     assert f"1 of {len(frame)} names are not in the workbook" in done.stdout
     assert "rebuild it with 'crankbook build'" in done.stdout
     assert "differ from numpy" not in done.stdout and "DIFFERS" not in done.stdout
+    # the auditor is told the same two readings of a missing result name
+    done = run_cli("audit", older)
+    assert done.returncode == 1
+    assert "q_gas_pressure_looks_like_bar        the defined name is missing" in done.stdout
+    assert "built by an older crankbook lacks the result names" in done.stdout
 
 
 @pytest.mark.parametrize("engine", ["libreoffice", "gnumeric"])

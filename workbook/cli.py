@@ -386,7 +386,7 @@ def _source_problems(documents, folder):
 
 
 def _audit_workbook(path):
-    from crankbook.audit.returned import audit_workbook
+    from crankbook.audit.returned import MISSING, audit_workbook
 
     spec, findings, recalculated, rule_message = audit_workbook(path)
     if recalculated:
@@ -404,6 +404,10 @@ def _audit_workbook(path):
         expected = "" if f.expected != f.expected else f" (expected {f.expected:.6g})"
         shown = "" if f.stored is None and f.expected != f.expected else f": {f.stored!r}"
         print(f"  {f.address:<28} {f.name:<36} {f.problem}{shown}{expected}")
+    if any(f.problem == MISSING and f.name.startswith("q_") for f in findings):
+        print("A workbook built by an older crankbook lacks the result names added since: "
+              "audit it with the crankbook that built it, or rebuild it; otherwise a "
+              "missing name was deleted")
     return 1
 
 

@@ -30,6 +30,7 @@ from crankbook.support.workspace import temporary_directory
 
 
 DIFFERS = "value differs from the recomputation"
+MISSING = "the defined name is missing"
 GROUPED = 4                        # differing cells of one name shown one by one, at most
 STORY = 0.9                        # share of them that must follow the built inputs
 
@@ -116,7 +117,7 @@ def _audit(original, calculated, recalculated):
     for q in spec.quantities():
         name = f"q_{q.key}"
         if name not in ranges:
-            findings.append(CellFinding("—", name, None, math.nan, "the defined name is missing"))
+            findings.append(CellFinding("—", name, None, math.nan, MISSING))
             continue
         found = ranges[name]
         rows, cols = expected_shape(spec, q.key, grid_rows, sizes)
