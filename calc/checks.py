@@ -157,12 +157,18 @@ def sweep_reversed(sweep_speed_min, sweep_speed_max):
                  & (np.asarray(sweep_speed_min) >= sweep_speed_max))
 
 
+# the least specified tensile strength of shaft forgings: Lloyd's Register, Rules for
+# Ships, Pt 5 Ch 6 §2.1.1 (carbon and carbon-manganese steel 400–760 N/mm²), the rules
+# that carry M68's permissible stresses
+LEAST_SHAFT_STRENGTH = 400e6    # Pa
+
+
 def shaft_strength_below_rule(shaft_tensile_strength):
     """1 where M68's σ_B is typed (not 0 = the crankshaft's) below 400 MPa, the least
-    specified tensile strength of shaft steel M68 and the class rules take: a value in
-    GPa typed into the MPa cell, most likely."""
+    shaft steel the class rules take: a value in GPa typed into the MPa cell, most
+    likely."""
     sigma = np.asarray(shaft_tensile_strength, dtype=float)
-    return _flag((sigma > 0) & (sigma < 400e6))
+    return _flag((sigma > 0) & (sigma < LEAST_SHAFT_STRENGTH))
 
 
 def damper_inertia_implausible(damper_kind, damper_inertia, station_inertia):
