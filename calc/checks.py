@@ -140,6 +140,22 @@ def gas_pressure_looks_like_bar(intake_pressure, exhaust_pressure, ambient_press
                  > MAX_GAS_EXCHANGE_PRESSURE)
 
 
+def stroke_bore_implausible(stroke, bore):
+    """1 where the stroke is below 0.3 or above 5 times the bore: engines run from
+    about 0.5 (racing) to 4.2 (long-stroke two-stroke crossheads), so a crank radius
+    or rod length in m typed into an mm cell."""
+    return _flag((stroke < 0.3 * bore) | (stroke > 5 * bore))
+
+
+MAX_PEAK_PRESSURE = 40e6        # Pa: above any engine's (heavy diesels reach about 25 MPa)
+
+
+def peak_pressure_implausible(cylinder_pressure_max):
+    """1 where the peak cylinder pressure is above 40 MPa: a length, the compression
+    ratio or the heat typed wrong."""
+    return _flag(cylinder_pressure_max > MAX_PEAK_PRESSURE)
+
+
 def flywheel_implausible(station_inertia, bore):
     """1 where the flywheel station's inertia [kg·m²] (the last station) is below the
     crank throws' together — no flywheel is lighter than the crank it steadies — or

@@ -5,6 +5,7 @@ import pytest
 from crankbook.calc import cycle, forces, kinematics as k, pressure as p
 from crankbook.spec import evaluate
 from crankbook.spec import params
+from tests.conftest import assert_slip_warned
 
 
 def test_thesis_reciprocating_mass_is_515_g():
@@ -91,3 +92,13 @@ def test_trace_interpolation_matches_numpy_interp():
     x = np.linspace(0, 720, 97)
     assert np.allclose(p.trace_pressure(x, angles, pressures), np.interp(x, angles, pressures))
     assert np.isnan(p.trace_pressure(x, angles[:1], pressures[:1])).all()
+
+
+@pytest.mark.parametrize("inputs,flag,words", [
+    ({"crank_radius": 0.045}, "stroke_bore_implausible", "a length in m typed into an mm cell"),
+    ({"heat_released": 20000.0}, "peak_pressure_implausible", "above 40 MPa"),
+])
+def test_a_length_in_metres_or_a_heat_tenfold_is_warned(inputs, flag, words):
+    """A crank radius of 0.045 (m for 45 mm) made a 0.09 mm stroke and a 4,596 MPa peak
+    pressure without a word; ten times the heat gives 56 MPa.  Both now warn."""
+    assert_slip_warned("thesis", inputs, flag, words)
