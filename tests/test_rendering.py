@@ -55,6 +55,33 @@ def test_no_hashes_on_any_page(rendered):
         assert not any("###" in page for page in _pages(pdf)), key
 
 
+EXCEL_FORMULA_LIMIT = 8192         # characters of a formula (Excel 2007 and later)
+EXCEL_TEXT_LIMIT = 255             # characters of a text constant inside a formula
+EXCEL_NESTING_LIMIT = 64           # levels of nested functions
+
+
+def test_every_formula_is_within_excels_limits(rendered):
+    """Excel repairs a file whose formula passes 8,192 characters or holds a text
+    constant longer than 255 (it drops the formula); LibreOffice and Gnumeric take
+    both, so no engine test would see it.  The Parameters status cell once
+    concatenated forty notes' words and a check per parameter: 11,586 characters."""
+    literal = re.compile(r'"((?:[^"]|"")*)"')
+    for key, (path, _) in rendered.items():
+        with zipfile.ZipFile(path) as archive:
+            sheets = [n for n in archive.namelist() if n.startswith("xl/worksheets/sheet")]
+            for sheet in sheets:
+                xml = archive.read(sheet).decode()
+                for formula in map(html.unescape, re.findall(r"<f[^>]*>([^<]*)</f>", xml)):
+                    assert len(formula) <= EXCEL_FORMULA_LIMIT, (key, sheet, len(formula))
+                    for text in literal.findall(formula):
+                        assert len(text.replace('""', '"')) <= EXCEL_TEXT_LIMIT, (key, text)
+                    depth = deepest = 0
+                    for char in formula:
+                        depth += (char == "(") - (char == ")")
+                        deepest = max(deepest, depth)
+                    assert deepest <= EXCEL_NESTING_LIMIT, (key, sheet, formula[:80])
+
+
 def test_no_block_of_the_results_table_is_split(rendered):
     """The results table stacks one block per grid (the course design: Newton steps,
     positions, 30 positions, the cams' angles …); every printed page of it starts a

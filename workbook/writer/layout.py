@@ -37,7 +37,7 @@ def step_text(step, unit):
 @dataclass
 class Row:
     """One row of the Parameters sheet: what it shows and where."""
-    kind: str            # group, parameter, heading, scalar, bound, rule, valid
+    kind: str            # group, parameter, heading, scalar, bound, rule, valid, note
     row: int
     item: object = None  # the spec object (group words, Parameter, Quantity)
 
@@ -208,7 +208,28 @@ class Layout:
         rows.append(Row("valid", row, None))
         self.places[GUARD] = Place("cell", name, row, 1)
         self.places["input_status"] = Place("cell", name, 2, 1)
+        # the notes' words stand in cells that the status cell and the Summary's line
+        # read: written into those formulas, forty notes passed Excel's 8,192
+        # characters of a formula, and one note its 255 of a text in a formula
+        self.note_rows = []
+        if spec.notes:
+            row += 2
+            rows.append(Row("heading", row, "notes"))
+            row += 1
+            for note in spec.notes:
+                rows.append(Row("note", row, note))
+                self.note_rows.append(row)
+                row += 1
         return rows
+
+    def note_words(self, index, sheet=False):
+        """A formula's text of note ``index``'s words, the workbook's language first
+        ("zh / en"), read from its cells on the Parameters sheet."""
+        from crankbook.spec.formulas import quote_sheet
+        prefix = f"{quote_sheet(self.sheet_name['parameters'])}!" if sheet else ""
+        primary, other = ("D", "E") if self.lang == "zh" else ("E", "D")
+        row = self.note_rows[index] + 1
+        return f'{prefix}${primary}${row}&" / "&{prefix}${other}${row}'
 
     def _place_summary_sheet(self):
         spec, name = self.spec, self.sheet_name["summary"]

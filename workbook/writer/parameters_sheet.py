@@ -12,7 +12,11 @@ HEADERS = {
                ("Description", "Description (en)"), ("允许范围", "Allowed")],
     "derived": ("计算常数（公式）", "Derived constants (formulas)"),
     "checks": ("输入检查（1 = 不满足）", "Input checks (1 = broken)"),
+    "gathered": ("不满足的检查（逐行累计）", "Broken checks (gathered row by row)"),
+    "notes": ("提示文字（状态单元格与汇总页的提示行引用）",
+              "Notes' words (the status cell and the Summary's line read them)"),
 }
+GATHERED = 6                     # column G, beside the checks: the broken ones' keys so far
 STATUS_OK = ("✓ 输入有效：所有表格与图表已按这些参数计算",
              "✓ inputs valid: every table and chart follows these parameters")
 BROKEN = ("不满足的规则", "every broken rule")      # more than one: each named by its key
@@ -163,6 +167,9 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
                 write_formula_cell(ws, row, 1, item, layout, results, styles, name)
                 _describe(ws, row, item.zh, item.en, styles)
             checks.append(row)
+        elif entry.kind == "note":
+            ws.write(row, 0, item["when_nonzero"], styles.key)
+            _describe(ws, row, item["zh"], item["en"], styles)
         elif entry.kind == "valid":
             first, last = checks[0], checks[-1]
             flags = f"$B${first + 1}:$B${last + 1}"
@@ -179,12 +186,23 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
             # notes marked ``status`` (a Holzer grid that misses modes) follow the ✓:
             # the inputs are valid, but some cells are blank, and the status says why
             ok_formula, ok_value = f'"{ok_text}"', ok_text
-            for note in (n for n in spec.notes if n.get("status")):
+            for index, note in enumerate(spec.notes):
+                if not note.get("status"):
+                    continue
                 key, text = note["when_nonzero"], f"{note[lang]} / {note[layout.other]}"
-                ok_formula += f'&IF({layout.locator.name(key)}<>0," — {text}","")'
+                ok_formula += (f'&IF({layout.locator.name(key)}<>0,'
+                               f'" — "&{layout.note_words(index)},"")')
                 ok_value += f" — {text}" if float({**values, **results}[key]) != 0 else ""
-            # more than one broken: every one by its key (no TEXTJOIN before Excel 2019)
-            names = "&".join(f'IF($B${r + 1}=1,", "&$A${r + 1},"")' for r in checks)
+            # more than one broken: every one by its key (no TEXTJOIN before Excel 2019),
+            # gathered down column G, one check a row: one IF per check in this formula
+            # passed Excel's 8,192 characters of a formula as the parameters grew
+            for before, r in zip([None, *checks], checks):
+                gathered = f'IF($B${r + 1}=1,", "&$A${r + 1},"")'
+                if before is not None:
+                    gathered = f"$G${before + 1}&{gathered}"
+                ws.write_formula(r, GATHERED, f"={gathered}", styles.text, "")
+            ws.write(checks[0] - 1, GATHERED, both(HEADERS["gathered"], lang), styles.group)
+            names = f"$G${checks[-1] + 1}"
             status = (f'=IF(SUM({flags})=0,{ok_formula},"✗ "&INDEX({msg},MATCH(1,{flags},0))'
                       f'&" / "&INDEX({msg_other},MATCH(1,{flags},0))'
                       f'&IF(SUM({flags})>1," ({both(BROKEN, lang)}: "&MID({names},3,2000)&")",""))')

@@ -41,9 +41,10 @@ def _write_status_line(ws, layout, values, results, styles):
     status = f"{quote_sheet(place.sheet)}!$B${place.row + 1}"
     known = {**values, **results}
     parts, shown = [], []
-    for note in spec.notes:
+    for index, note in enumerate(spec.notes):
         text = f"{note[layout.lang]} / {note[layout.other]}"
-        parts.append(f'IF({layout.locator.name(note["when_nonzero"])}<>0,"{text}  ","")')
+        parts.append(f'IF({layout.locator.name(note["when_nonzero"])}<>0,'
+                     f'{layout.note_words(index, sheet=True)}&"  ","")')
         if float(known[note["when_nonzero"]]) != 0:
             shown.append(f"{text}  ")
     notes = "&".join(parts) if parts else '""'
