@@ -58,12 +58,14 @@ def test_no_hashes_on_any_page(rendered):
 EXCEL_FORMULA_LIMIT = 8192         # characters of a formula (Excel 2007 and later)
 EXCEL_TEXT_LIMIT = 255             # characters of a text constant inside a formula
 EXCEL_NESTING_LIMIT = 64           # levels of nested functions
+EXCEL_ARGUMENT_LIMIT = 255         # arguments of one function
 
 
 def test_every_formula_is_within_excels_limits(rendered):
-    """Excel repairs a file whose formula passes 8,192 characters or holds a text
-    constant longer than 255 (it drops the formula); LibreOffice and Gnumeric take
-    both, so no engine test would see it.  The Parameters status cell once
+    """Excel repairs a file whose formula passes 8,192 characters, holds a text
+    constant longer than 255, nests functions deeper than 64 or gives one more than 255
+    arguments (it drops the formula); LibreOffice and Gnumeric take all of these, so
+    no engine test would see it.  The Parameters status cell once
     concatenated forty notes' words and a check per parameter: 11,586 characters."""
     literal = re.compile(r'"((?:[^"]|"")*)"')
     for key, (path, _) in rendered.items():
@@ -75,11 +77,22 @@ def test_every_formula_is_within_excels_limits(rendered):
                     assert len(formula) <= EXCEL_FORMULA_LIMIT, (key, sheet, len(formula))
                     for text in literal.findall(formula):
                         assert len(text.replace('""', '"')) <= EXCEL_TEXT_LIMIT, (key, text)
-                    depth = deepest = 0
-                    for char in formula:
-                        depth += (char == "(") - (char == ")")
-                        deepest = max(deepest, depth)
-                    assert deepest <= EXCEL_NESTING_LIMIT, (key, sheet, formula[:80])
+                    # the nesting and each call's arguments, outside the text constants
+                    # and the array constants {…} (whose commas separate no arguments)
+                    commas, most = [], 0
+                    for char in literal.sub('""', formula):
+                        if char == "(":
+                            commas.append(0)
+                            assert len(commas) - commas.count(None) <= EXCEL_NESTING_LIMIT, \
+                                (key, formula[:80])
+                        elif char == "{":
+                            commas.append(None)
+                        elif char in ")}" and commas:
+                            last = commas.pop()
+                            most = max(most, 0 if last is None else last + 1)
+                        elif char == "," and commas and commas[-1] is not None:
+                            commas[-1] += 1
+                    assert most <= EXCEL_ARGUMENT_LIMIT, (key, sheet, formula[:80])
 
 
 def test_no_block_of_the_results_table_is_split(rendered):
