@@ -163,6 +163,8 @@ def test_verify_names_what_a_workbook_does_not_define(tmp_path, ssconvert):
     with zipfile.ZipFile(older, "w", zipfile.ZIP_DEFLATED) as target:
         for name, data in items.items():
             target.writestr(name, data)
+    with pytest.raises(KeyError, match="this workbook does not hold it"):
+        crankbook.read(older)["gas_pressure_looks_like_bar"]
     frame = crankbook.verify(older, engine="gnumeric")
     assert list(frame.name[frame.absent]) == ["q_gas_pressure_looks_like_bar"]
     assert frame.ok[~frame.absent].all()

@@ -111,6 +111,9 @@ class Results:
             return value
         if key in self.values:
             return self.values[key]
+        if key in self.spec.quantity:        # read() of a workbook without this name
+            raise KeyError(f"{key}: this workbook does not hold it (built before crankbook "
+                           f"computed it, or its name was deleted): rebuild the workbook")
         raise KeyError(key)
 
     def __repr__(self):
