@@ -299,10 +299,13 @@ def expansions_per_kelvin(rod_expansion, bush_expansion):
     return _flag(np.any((a > 0) & (a < LEAST_EXPANSION)))
 
 
+LEAST_FILM_ALLOWABLE = 0.1e-6   # m: a tenth of the usual 1 µm floor
+
+
 def film_allowable_implausible(min_film_allowable):
     """1 where the allowable minimum film is below 0.1 µm, a tenth of the usual floor
     and thinner than a ground journal's roughness: mm typed into the µm cell."""
-    return _flag(np.asarray(min_film_allowable) < 0.1e-6)
+    return _flag(np.asarray(min_film_allowable) < LEAST_FILM_ALLOWABLE)
 
 
 def viscosity_implausible(oil_viscosity):

@@ -1,6 +1,6 @@
 """The Parameters sheet: named inputs with validation, the derived constants, the
 input checks, and a status cell that says in words what is wrong."""
-from xlsxwriter.utility import xl_rowcol_to_cell
+from xlsxwriter.utility import xl_col_to_name, xl_rowcol_to_cell
 
 from crankbook.spec.formulas import number
 from crankbook.writer.layout import PARAMETER_TABLE_ROW, label, unit_text
@@ -196,13 +196,14 @@ def write_parameters_sheet(book, layout, values, results, preset, styles):
             # more than one broken: every one by its key (no TEXTJOIN before Excel 2019),
             # gathered down column G, one check a row: one IF per check in this formula
             # passed Excel's 8,192 characters of a formula as the parameters grew
+            column = "$" + xl_col_to_name(GATHERED)
             for before, r in zip([None, *checks], checks):
                 gathered = f'IF($B${r + 1}=1,", "&$A${r + 1},"")'
                 if before is not None:
-                    gathered = f"$G${before + 1}&{gathered}"
+                    gathered = f"{column}${before + 1}&{gathered}"
                 ws.write_formula(r, GATHERED, f"={gathered}", styles.text, "")
             ws.write(checks[0] - 1, GATHERED, both(HEADERS["gathered"], lang), styles.group)
-            names = f"$G${checks[-1] + 1}"
+            names = f"{column}${checks[-1] + 1}"
             status = (f'=IF(SUM({flags})=0,{ok_formula},"✗ "&INDEX({msg},MATCH(1,{flags},0))'
                       f'&" / "&INDEX({msg_other},MATCH(1,{flags},0))'
                       f'&IF(SUM({flags})>1," ({both(BROKEN, lang)}: "&MID({names},3,2000)&")",""))')
