@@ -9,7 +9,7 @@ import pytest
 
 import crankbook
 from crankbook.errors import (GeometryError, ParameterValueError, UnknownParameterError,
-                              UnknownPresetError)
+                              UnknownPresetError, WorkbookReadError)
 from crankbook.audit.returned import audit_workbook
 from crankbook.writer.series_sheet import cached
 from crankbook.reading.xlsx_reader import XlsxBook
@@ -215,3 +215,65 @@ def test_charts_stand_beside_their_own_columns_whatever_the_trace(tmp_path):
                 if str(sheet.cell(3, c).value or "").startswith("Measured crank angle"))
     anchors = [chart.anchor._from.col + 1 for chart in sheet._charts]      # 1-based
     assert anchors and all(col < trace for col in anchors), (anchors, trace)
+
+
+def _without_values(path, out):
+    """``path`` as a program that does not calculate saves it (openpyxl: every formula
+    kept, no stored value), made in the archive itself: openpyxl's own round trip of
+    an engine workbook takes a quarter of a minute."""
+    with zipfile.ZipFile(path) as archive:
+        items = {n: archive.read(n) for n in archive.namelist()}
+    for name, data in items.items():
+        if name.startswith("xl/worksheets/sheet"):
+            items[name] = re.sub(rb"(<f[^>]*/>|<f[^>]*>[^<]*</f>)<v>[^<]*</v>", rb"\1", data)
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
+        for name, data in items.items():
+            archive.writestr(name, data)
+    return out
+
+
+def test_an_export_never_writes_blank_results(tmp_path, soffice):
+    """A workbook saved without calculated values (the docs' openpyxl edit): export
+    recalculates it in LibreOffice first and says so, where it wrote NaN (torsion,
+    trace: the same reading) or crashed (bearing); Python's read of it is refused by
+    the writer, not exported.  A workbook whose inputs break a rule holds blank
+    results by design: each export refuses it in one line naming the rule, and
+    writes nothing."""
+    import csv
+    from tests.conftest import edit_cells
+
+    def orbit(csv_path):
+        with open(csv_path, newline="", encoding="utf-8-sig") as handle:
+            return [[float(row[k]) for k in ("e_u/c", "h_min [um]")]
+                    for row in csv.DictReader(handle)]
+
+    path = crankbook.compute("thesis", step=5.0).to_excel(tmp_path / "thesis.xlsx")
+    typed = _without_values(path, tmp_path / "typed.xlsx")
+    assert run_cli("export", "bearing", path, "-o", tmp_path / "stored.csv").returncode == 0
+    done = run_cli("export", "bearing", typed, "-o", tmp_path / "typed.csv")
+    assert done.returncode == 0, done.stderr
+    assert "recalculated in LibreOffice first" in done.stdout
+    assert np.allclose(orbit(tmp_path / "typed.csv"), orbit(tmp_path / "stored.csv"),
+                       rtol=1e-6, atol=1e-6)
+    with pytest.warns(crankbook.CrankbookWarning, match="no calculated values"):
+        uncalculated = crankbook.read(typed)
+    with pytest.raises(WorkbookReadError, match="recalculate=True"):
+        uncalculated.to_bearing_csv(tmp_path / "python.csv")
+    assert not (tmp_path / "python.csv").exists()
+
+    # too short a rod, typed and saved uncalculated: recalculated, then refused
+    edit_cells(path, tmp_path / "short.xlsx", {"rod_length": 40.0})
+    broken = _without_values(tmp_path / "short.xlsx", tmp_path / "broken.xlsx")
+    done = run_cli("export", "bearing", broken, "-o", tmp_path / "b.csv")
+    assert done.returncode == 2, (done.stdout, done.stderr)
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and "rod too short" in lines[0] and "Traceback" not in lines[0]
+    assert not (tmp_path / "b.csv").exists()
+    with pytest.warns(crankbook.CrankbookWarning):
+        blank = crankbook.read(broken)
+    from crankbook.writer.torsion_csv import write_trace
+    for export, output in ((blank.to_torsion_csv, "tv"),
+                           (lambda out: write_trace(blank, out), "t.csv")):
+        with pytest.raises(WorkbookReadError, match="rod too short"):
+            export(tmp_path / output)
+        assert not (tmp_path / output).exists()

@@ -441,11 +441,33 @@ def _assign(args):
     return 0
 
 
+def _stored_results(path, progress):
+    """The results stored in the workbook at ``path`` or, for a file saved without
+    calculated values (openpyxl's save), LibreOffice's recalculation of it, said in
+    one line as audit says it: an export of NaN would be no export."""
+    import crankbook
+    from crankbook.errors import UncalculatedWorkbookWarning
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        results = crankbook.read(path)
+    uncalculated = False
+    for said in caught:
+        if issubclass(said.category, UncalculatedWorkbookWarning):
+            uncalculated = True
+        else:
+            warnings.warn_explicit(said.message, said.category, said.filename, said.lineno)
+    if not uncalculated:
+        return results
+    print(f"{path} was saved without calculated values: recalculated in LibreOffice first")
+    return crankbook.read(path, recalculate=True, progress=progress)
+
+
 def _export(args):
     import crankbook
     from crankbook.writer.torsion_csv import write, write_trace
     if args.what == "trace":
-        source = crankbook.read(args.workbook) if args.workbook else crankbook.compute("thesis")
+        source = _stored_results(args.workbook, _progress(args)) if args.workbook \
+            else crankbook.compute("thesis")
         path = write_trace(source, args.output)
         print(f"wrote {path}: the cylinder pressure of "
               f"{args.workbook or 'the thesis engine'} (crank angle °, MPa absolute)")
@@ -454,15 +476,16 @@ def _export(args):
         raise BuildOptionError(f"export {args.what} needs the engine WORKBOOK to read")
     if args.what == "bearing":
         from crankbook.writer import bearing_csv
-        path = bearing_csv.write(crankbook.read(args.workbook), args.output)
+        path = bearing_csv.write(_stored_results(args.workbook, _progress(args)), args.output)
         print(f"wrote {path}: the journal orbits of the big end and the checked main bearing "
               f"over the second cycle (short-bearing mobility: optimistic at high eccentricity)")
         return 0
-    results = crankbook.read(args.workbook)
+    results = _stored_results(args.workbook, _progress(args))
     write(results, args.output, source=args.workbook)
     speed = results.parameters["speed"]
-    print(f"wrote {args.output}/stations.csv and harmonics.csv (the harmonics at "
-          f"{speed:g} r/min; at another speed n the inertia part scales with (n/{speed:g})²)")
+    print(f"wrote {args.output}/stations.csv, harmonics.csv and response.csv (the harmonics "
+          f"at {speed:g} r/min; at another speed n the inertia part scales with "
+          f"(n/{speed:g})²; the forced response over the workbook's speed sweep)")
     return 0
 
 

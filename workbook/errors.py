@@ -20,6 +20,12 @@ class CoarseStepWarning(CrankbookWarning):
     grids on purpose, silence it."""
 
 
+class UncalculatedWorkbookWarning(CrankbookWarning):
+    """A workbook saved without calculated values (openpyxl writes formulas only), read
+    as it is: its q_ values read as NaN.  The commands that read results (``export``)
+    recalculate such a file in LibreOffice instead."""
+
+
 class UnknownPresetError(CrankbookError):
     """A preset or workbook template name that does not exist."""
 

@@ -136,8 +136,9 @@ class Results:
                 + ", ".join(moved))
 
     def to_torsion_csv(self, directory):
-        """Write ``stations.csv`` and ``harmonics.csv`` (the torsional system and each
-        cylinder's torque harmonics) into ``directory``; see crankbook.writer.torsion_csv."""
+        """Write ``stations.csv``, ``harmonics.csv`` and ``response.csv`` (the torsional
+        system, each cylinder's torque harmonics and the forced response over the speed
+        sweep) into ``directory``; see crankbook.writer.torsion_csv."""
         from crankbook.writer.torsion_csv import write
         return write(self, directory)
 

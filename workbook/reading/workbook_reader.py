@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from crankbook.errors import CrankbookError, CrankbookWarning, WorkbookReadError
+from crankbook.errors import CrankbookError, UncalculatedWorkbookWarning, WorkbookReadError
 from crankbook.spec.evaluate import MAX_ROWS
 from crankbook.reading.xlsx_reader import RECALCULATED_SCALE, Unreadable, XlsxBook
 from crankbook.spec.loader import load as load_spec, template_names
@@ -311,8 +311,11 @@ def load_named(path):
 
 def saved_without_values(book, spec, ranges):
     """True when the template's formula cells carry no stored results (e.g. written by
-    openpyxl); only the template's own names are looked at, one cell each."""
-    for q in spec.quantities():
+    openpyxl); only the template's own names are looked at, one cell each, and an
+    unguarded one first: a guarded result is blank by design while the inputs break a
+    rule, which a calculated workbook may well hold."""
+    quantities = sorted(spec.quantities(), key=lambda q: q.guard)
+    for q in quantities:
         found = ranges.get(f"q_{q.key}")
         if found is None or q.formula is None:
             continue
@@ -332,7 +335,8 @@ def stored_results(path, computed=None):
     if computed is None and saved_without_values(book, spec, ranges):
         warnings.warn(f"{Path(path).name} holds no calculated values (saved by a program "
                       f"that does not calculate, such as openpyxl): its q_ values read as NaN; "
-                      f"read it with recalculate=True", CrankbookWarning, stacklevel=2)
+                      f"read it with recalculate=True", UncalculatedWorkbookWarning,
+                      stacklevel=2)
     stored = read_results(book if computed is None else computed, spec, ranges, path, sizes,
                           grid_rows)
     results = {}

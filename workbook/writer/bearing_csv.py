@@ -16,6 +16,7 @@ import numpy as np
 
 from crankbook.errors import BuildOptionError
 from crankbook.support.atomic import atomic_path
+from crankbook.writer.exported import require_numbers
 from crankbook.support.csv_safety import csv_text
 
 ENCODING = "utf-8-sig"
@@ -29,6 +30,7 @@ def rows(results):
     if missing:
         raise BuildOptionError(f"export bearing: the workbook has no {missing[0]} (an engine "
                                f"workbook built by this crankbook has)")
+    require_numbers(results, ("checked_journal", "orbit_eccentricity_x"), "export bearing")
     angle = np.ravel(np.asarray(results["orbit_angle"], dtype=float))
     x = np.asarray(results["orbit_eccentricity_x"], dtype=float).reshape(angle.size, -1)
     y = np.asarray(results["orbit_eccentricity_y"], dtype=float).reshape(angle.size, -1)

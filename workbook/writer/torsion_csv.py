@@ -29,6 +29,7 @@ from crankbook.support.atomic import atomic_path
 from crankbook.support.csv_safety import csv_text
 from crankbook.errors import BuildOptionError
 from crankbook.support.workspace import check_output_folder, staged_directory
+from crankbook.writer.exported import require_numbers
 
 ENCODING = "utf-8-sig"
 FILE_SUFFIXES = (".csv", ".xlsx", ".txt", ".json")
@@ -49,6 +50,7 @@ def rows(results):
     if missing:
         raise BuildOptionError(f"export torsion: the workbook has no {missing[0]} (an engine "
                                f"workbook built by this crankbook has)")
+    require_numbers(results, ("station_inertia", "cylinder_torque_cosine"), "export torsion")
     inertia = np.atleast_1d(np.asarray(results["station_inertia"], dtype=float))
     stiffness = np.atleast_1d(np.asarray(results["section_stiffness"], dtype=float))
     stations = [["station", "name", "J [kg·m²]", "k to next [N·m/rad]"]]
@@ -86,6 +88,7 @@ def response_rows(results):
     if missing:
         raise BuildOptionError(f"export torsion: the workbook has no {missing[0]} (an engine "
                                f"workbook built by this crankbook has)")
+    require_numbers(results, ("sweep_speed", "response_section_torque"), "export torsion")
     d = float(results.parameters["main_journal_diameter"])
     bore = float(results.parameters["main_journal_bore"])
     factor = 16 * 1000 * d / (math.pi * (d ** 4 - bore ** 4))    # N·m -> MPa, d in mm
@@ -142,6 +145,7 @@ def write_trace(results, path):
     if "cylinder_pressure" not in results.results:
         raise BuildOptionError("export trace: the workbook has no cylinder_pressure (an "
                                "engine workbook has)")
+    require_numbers(results, ("cylinder_pressure",), "export trace")
     path = check_output(path, ".csv")
     angle = np.asarray(results["crank_angle"], dtype=float)
     pressure = np.asarray(results["cylinder_pressure"], dtype=float)
