@@ -251,6 +251,34 @@ def test_a_second_run_into_the_same_output_is_refused(tmp_path):
         holder.kill()
 
 
+def test_a_build_never_replaces_the_pressure_file_it_reads(tmp_path):
+    """`build --pressure trace.xlsx -o trace.xlsx` would have replaced the engineer's
+    measurement (perhaps the only copy) with the workbook: refused in one line before
+    anything is written, by its own name, another spelling of it or a hard link; the
+    Python API the same.  Another name builds."""
+    import numpy as np
+    import pandas as pd
+    import crankbook
+    from crankbook.errors import OutputPathError
+    angle = np.arange(0.0, 720.0, 2.0)
+    trace = tmp_path / "trace.xlsx"
+    pd.DataFrame({"angle": angle, "p": 0.1 + 4 * np.exp(-((angle - 372) / 30) ** 2)}) \
+        .to_excel(trace, index=False)
+    measured = trace.read_bytes()
+    os.link(trace, tmp_path / "linked.xlsx")
+    for output in (trace, tmp_path / "sub" / ".." / "trace.xlsx", tmp_path / "linked.xlsx"):
+        done = run_cli("build", "--pressure", trace, "--step", "30", "-o", output)
+        assert done.returncode == 2, done.stdout
+        lines = done.stderr.strip().splitlines()
+        assert len(lines) == 1 and "measured-pressure file" in lines[0], lines
+        assert trace.read_bytes() == measured
+    with pytest.raises(OutputPathError, match="--pressure"):
+        crankbook.compute("thesis", pressure=trace, step=30.0).to_excel(trace)
+    assert trace.read_bytes() == measured
+    done = run_cli("build", "--pressure", trace, "--step", "30", "-o", tmp_path / "built.xlsx")
+    assert done.returncode == 0 and (tmp_path / "built.xlsx").is_file(), done.stderr
+
+
 # --------------------------------------------- one line for teacher mistakes
 @pytest.mark.parametrize("args,words", [
     (["assign", "--roster", "{roster}", "-o", "x" * 300], "the path is too long"),

@@ -41,6 +41,8 @@ class Results:
     steps: dict
     results: dict
     axis_sizes: dict = field(default_factory=dict)
+    # the measured-pressure file compute() read, which no output may replace
+    pressure_file: object = None
 
     # ------------------------------------------------------------ views
     @property
@@ -254,6 +256,8 @@ def compute(preset="thesis", *, group=None, pressure=None, step=None, **params):
         tables, values = _trace_inputs(spec, _traces(spec, pressure), values, params, what)
     values = parameters.validate(spec, values, tables=tables, grids=build_grids(spec, steps))
     results = results_for(spec, meta, values, tables, steps)
+    if pressure is not None and not _is_frame(pressure):
+        results.pressure_file = Path(pressure)
     _warn_coarse_step(results, steps)
     _warn_status_notes(results)
     return results

@@ -3,6 +3,7 @@ into place."""
 import datetime
 import gc
 import json
+import os
 from contextlib import contextmanager
 from functools import partial
 from pathlib import Path
@@ -16,7 +17,7 @@ xlsxwriter.workbook.ZipFile = partial(ZipFile, compresslevel=1)
 
 from crankbook import __version__
 from crankbook.support.atomic import atomic_path
-from crankbook.errors import BuildOptionError
+from crankbook.errors import BuildOptionError, OutputPathError
 from crankbook.writer.fast_sheet import FastWorkbook
 from crankbook.writer.charts import write_charts_sheet
 from crankbook.writer.report_sheet import write_report_sheet
@@ -55,6 +56,21 @@ def check_output(path, suffix=".xlsx"):
     return path
 
 
+def _not_the_pressure_file(path, source):
+    """OutputPathError when ``path`` is the measured-pressure file the workbook was
+    built from (``build --pressure trace.xlsx -o trace.xlsx``): the engineer's
+    measurement, perhaps their only copy, is never what a build replaces."""
+    if source is None:
+        return
+    source = Path(source)
+    same = path.resolve() == source.resolve()
+    if not same and path.exists() and source.exists():
+        same = os.path.samefile(path, source)        # a hard link, another spelling
+    if same:
+        raise OutputPathError(f"-o {path}: is the measured-pressure file this workbook is "
+                              f"built from (--pressure); give the workbook another name")
+
+
 @contextmanager
 def _no_cycle_collection():
     """Writing allocates some hundred thousand short-lived strings and no cycles worth
@@ -71,6 +87,7 @@ def _no_cycle_collection():
 def write_workbook(build, lang, path):
     """Write ``build`` (a crankbook.api.Results) to ``path`` atomically."""
     path = check_output(path)
+    _not_the_pressure_file(path, getattr(build, "pressure_file", None))
     spec = build.spec
     grid_sizes = {g.key: len(build.results[g.key]) for g in spec.grids}
     lengths = {t.key: max(len(build.tables.get(c.key, [])) for c in t.columns)
