@@ -257,7 +257,7 @@ def compute(preset="thesis", *, group=None, pressure=None, step=None, **params):
     values = parameters.validate(spec, values, tables=tables, grids=build_grids(spec, steps))
     results = results_for(spec, meta, values, tables, steps)
     if pressure is not None and not _is_frame(pressure):
-        results.pressure_file = Path(pressure)
+        results.pressure_file = Path(pressure).resolve()     # a later chdir cannot hide it
     _warn_coarse_step(results, steps)
     _warn_status_notes(results)
     return results
