@@ -232,11 +232,13 @@ def _without_values(path, out):
     return out
 
 
-def test_an_export_never_writes_blank_results(tmp_path, soffice):
+def test_an_export_never_writes_blank_or_stale_results(tmp_path, soffice):
     """A workbook saved without calculated values (the docs' openpyxl edit): export
     recalculates it in LibreOffice first and says so, where it wrote NaN (torsion,
     trace: the same reading) or crashed (bearing); Python's read of it is refused by
-    the writer, not exported.  A workbook whose inputs break a rule holds blank
+    the writer, not exported.  One whose stored results its inputs no longer give
+    (typed with calculation set to manual) is recalculated too, where the old
+    results were exported.  A workbook whose inputs break a rule holds blank
     results by design: each export refuses it in one line naming the rule, and
     writes nothing."""
     import csv
@@ -260,6 +262,18 @@ def test_an_export_never_writes_blank_results(tmp_path, soffice):
     with pytest.raises(WorkbookReadError, match="recalculate=True"):
         uncalculated.to_bearing_csv(tmp_path / "python.csv")
     assert not (tmp_path / "python.csv").exists()
+
+    # a speed typed with calculation set to manual: the stored orbit is the old speed's,
+    # so export recalculates and writes the new speed's, as a fresh build at it has
+    edit_cells(path, tmp_path / "manual.xlsx", {"speed": 3000.0})
+    done = run_cli("export", "bearing", tmp_path / "manual.xlsx", "-o", tmp_path / "m.csv")
+    assert done.returncode == 0 and "inputs no longer give" in done.stdout, done.stdout
+    fresh = crankbook.compute("thesis", step=5.0, speed=3000.0).to_excel(tmp_path / "n.xlsx")
+    assert run_cli("export", "bearing", fresh, "-o", tmp_path / "n.csv").returncode == 0
+    assert np.allclose(orbit(tmp_path / "m.csv"), orbit(tmp_path / "n.csv"),
+                       rtol=1e-6, atol=1e-6)
+    assert not np.allclose(orbit(tmp_path / "m.csv"), orbit(tmp_path / "stored.csv"),
+                           rtol=1e-3)
 
     # too short a rod, typed and saved uncalculated: recalculated, then refused
     edit_cells(path, tmp_path / "short.xlsx", {"rod_length": 40.0})

@@ -442,23 +442,29 @@ def _assign(args):
 
 
 def _stored_results(path, progress):
-    """The results stored in the workbook at ``path`` or, for a file saved without
-    calculated values (openpyxl's save), LibreOffice's recalculation of it, said in
-    one line as audit says it: an export of NaN would be no export."""
+    """The results stored in the workbook at ``path``; or LibreOffice's recalculation
+    of it, said in one line as audit says it, when the file holds none (openpyxl's
+    save) or holds results its own inputs no longer give (edited with calculation set
+    to manual): an export of NaN, or of another input's results, is no export."""
     import crankbook
     from crankbook.errors import UncalculatedWorkbookWarning
+    from crankbook.reading.verification import stale_result
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         results = crankbook.read(path)
-    uncalculated = False
+    reason = None
     for said in caught:
         if issubclass(said.category, UncalculatedWorkbookWarning):
-            uncalculated = True
+            reason = "was saved without calculated values"
         else:
             warnings.warn_explicit(said.message, said.category, said.filename, said.lineno)
-    if not uncalculated:
-        return results
-    print(f"{path} was saved without calculated values: recalculated in LibreOffice first")
+    if reason is None:
+        stale = stale_result(path)
+        if stale is None:
+            return results
+        reason = (f"holds results its inputs no longer give ({stale}: changed without "
+                  f"recalculating?)")
+    print(f"{path} {reason}: recalculated in LibreOffice first")
     return crankbook.read(path, recalculate=True, progress=progress)
 
 

@@ -64,6 +64,22 @@ def verify_workbooks(paths, engine="libreoffice", workdir=None, progress=None):
     return frames
 
 
+def stale_result(path):
+    """The first q_ name whose stored values do not follow the workbook's own inputs
+    (edited with calculation set to manual, or a script that typed an input), or None:
+    no recalculation, numpy against the file as saved.  A file whose inputs break a
+    rule gives None: its results are blank by design, and what reads them says so."""
+    named = load_named(path)
+    book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
+    _, _, cached, (expected, floors) = _loaded(path, named)
+    if expected is None:
+        return None
+    for comparison in compare(spec, expected, cached, floors):
+        if comparison.name in ranges and not comparison.ok:
+            return comparison.name
+    return None
+
+
 def _loaded(path, named):
     """A workbook's cached values and numpy's values for its inputs."""
     book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
