@@ -207,6 +207,29 @@ def _sheet_files(path):
             for name, rid in sheets}
 
 
+def legend_names(path):
+    """[(cell reference, cached text)] of every chart series name given by a cell."""
+    with zipfile.ZipFile(path) as z:
+        xml = "".join(z.read(n).decode() for n in sorted(z.namelist())
+                      if n.startswith("xl/charts/chart"))
+    return re.findall(r"<c:tx><c:strRef><c:f>([^<]+)</c:f><c:strCache>.*?<c:v>([^<]*)</c:v>",
+                      xml)
+
+
+def text_formulas(path, holding):
+    """{(sheet, row, col): cached text} of every text formula cell whose formula holds
+    ``holding`` (1-based row and column, as ComputedValues.values takes them)."""
+    out = {}
+    with zipfile.ZipFile(path) as z:
+        for sheet, part in _sheet_files(path).items():
+            xml = z.read(part).decode()
+            for ref, formula, value in re.findall(
+                    r'<c r="([A-Z]+[0-9]+)"[^>]*t="str"[^>]*><f>([^<]*)</f><v>([^<]*)</v>', xml):
+                if holding in html.unescape(formula):
+                    out[(sheet, *coordinate_to_tuple(ref))] = html.unescape(value)
+    return out
+
+
 def unwrapped_texts(ws, **bounds):
     """(cell, its merged span or None) of every text of ``ws`` that does not wrap (a
     formula's text excepted), within iter_rows' ``bounds``: such a text runs on into

@@ -10,7 +10,8 @@ import pytest
 
 import crankbook
 from crankbook.calc import bearing
-from tests.conftest import assert_build_refused_in_one_line, assert_slip_warned
+from tests.conftest import (assert_build_refused_in_one_line, assert_slip_warned, edit_cells,
+                            legend_names, named, text_formulas)
 
 D, L, C, MU = 0.050, 0.025, 30e-6, 0.010          # m, m, m, Pa·s
 OMEGA = 3000 * math.pi / 30
@@ -606,3 +607,33 @@ def test_the_sheets_short_bearing_mobility_is_the_finite_bearings_limit_and_opti
                        for ld in (0.25, 0.5, 1.0)])
     assert np.all(ratios < 1)
     assert np.all(np.diff(ratios, axis=0) < 0) and np.all(np.diff(ratios, axis=1) < 0)
+
+
+def test_the_main_bearings_name_says_which_bearing_live(tmp_path, soffice, ssconvert):
+    """The main bearing's name — its rows, its columns' headers in both languages, its
+    curves in the load, orbit and film charts — holds its number (q_checked_journal),
+    live: a bearing typed in the cells renames every one of them in LibreOffice and
+    Gnumeric, and a bearing that does not exist leaves "?" beside the status's words."""
+    from crankbook.reading import recalc
+    path = crankbook.compute("inline-4", step=6).to_excel(tmp_path / "i4.xlsx", lang="en")
+    journal = round(named(path, only=["q_checked_journal"])["q_checked_journal"])
+    texts = text_formulas(path, "Main bearing ")
+    legends = {text for _, text in legend_names(path) if "Main bearing" in text}
+    assert {"Main bearing %d (engine frame)" % journal,
+            "Minimum film thickness h_min = c·(1 − ε) — Main bearing %d (engine frame)"
+            % journal} <= legends
+    assert len(texts) > 20 and all(f"Main bearing {journal} " in t for t in texts.values())
+    assert any("主轴承" in t for t in text_formulas(path, "主轴承").values())   # the zh row
+    other = 1 if journal != 1 else 2
+    edited = {}
+    for case, number in (("typed", other), ("missing", 9)):
+        edited[case] = tmp_path / f"{case}.xlsx"
+        edit_cells(path, edited[case], {"check_bearing": float(number)})
+    for engine in ("libreoffice", "gnumeric"):
+        typed, missing = recalc.computed_values([edited["typed"], edited["missing"]],
+                                                tmp_path / engine, engine=engine)
+        for (sheet, row, col), text in texts.items():
+            renamed = text.replace(f"Main bearing {journal} ", f"Main bearing {other} ")
+            assert typed.values(sheet, row, col, row, col)[0] == renamed, (engine, sheet, row)
+            unknown = text.replace(f"Main bearing {journal} ", "Main bearing ? ")
+            assert missing.values(sheet, row, col, row, col)[0] == unknown, (engine, sheet, row)

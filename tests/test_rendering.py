@@ -18,8 +18,8 @@ from crankbook.reading import recalc
 from crankbook.spec.loader import load as load_spec
 from crankbook.support.toml_files import names_in
 from crankbook.writer.charts import FRAME_LABEL, Frame
-from tests.conftest import (ROOT, Recalculated, column_width, named, run_cli, run_program,
-                            unwrapped_texts)
+from tests.conftest import (ROOT, Recalculated, column_width, legend_names, named, run_cli,
+                            run_program, unwrapped_texts)
 
 pytestmark = pytest.mark.libreoffice
 PRESETS = names_in("presets")
@@ -509,15 +509,6 @@ def test_no_text_runs_past_a_printed_edge(tmp_path, preset, lang):
     assert not _cut_at_print_edge(path)
 
 
-def _legend_names(path):
-    """[(cell reference, cached text)] of every series name given by a cell."""
-    with zipfile.ZipFile(path) as z:
-        xml = "".join(z.read(n).decode() for n in sorted(z.namelist())
-                      if n.startswith("xl/charts/chart"))
-    return re.findall(r"<c:tx><c:strRef><c:f>([^<]+)</c:f><c:strCache>.*?<c:v>([^<]*)</c:v>",
-                      xml)
-
-
 def test_a_mode_the_grid_does_not_reach_says_so_in_the_legend(tmp_path, soffice):
     """The mode-shape chart, the vector sums and the Campbell diagram always have three
     curves of modes; a mode above the Holzer grid has none, and its legend entry says
@@ -525,7 +516,7 @@ def test_a_mode_the_grid_does_not_reach_says_so_in_the_legend(tmp_path, soffice)
     from tests.conftest import edit_cells
     path = compute("inline-6", step=6, holzer_max_frequency=600.0).to_excel(
         tmp_path / "i6.xlsx", lang="en")
-    names = {ref: text for ref, text in _legend_names(path) if "Mode" in text}
+    names = {ref: text for ref, text in legend_names(path) if "Mode" in text}
 
     def modes(texts):
         """mode number -> how many legend entries name it, and how many say (none)."""

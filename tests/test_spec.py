@@ -456,3 +456,19 @@ def test_item_names_come_in_both_languages():
                      "item_names_en": ["one"]}]
     with pytest.raises(SpecError, match="check: item_names_zh and item_names_en"):
         from_data(data)
+
+
+@pytest.mark.parametrize("held,words", [
+    ("nope", "holds {nope}: it must be a result of one whole number"),
+    ("x", "holds {x}: it must be a result of one whole number"),          # a series
+    ("crank_radius", "holds {crank_radius}: it must be a result"),        # an input
+])
+def test_an_item_name_holds_only_a_whole_number_result(held, words):
+    """A name that holds a result (the main bearing's number) is a text formula of a
+    discrete scalar: anything else — unknown, a column, an input — is refused."""
+    data = _minimal()
+    data["axis"] = [{"key": "check", "zh": "校核", "en": "Checks", "size_calc":
+                     "calc.connecting_rod.check_count", "item_names_zh": [f"第 {{{held}}} 道"],
+                     "item_names_en": [f"Bearing {{{held}}}"]}]
+    with pytest.raises(SpecError, match=f"check: an item's name {re.escape(words)}"):
+        from_data(data)

@@ -52,6 +52,11 @@ def check(spec):
             continue
         if a.aligned is not None and (a.aligned not in spec.axis or a.aligned == a.key):
             raise SpecError(spec.file, a.key, f"aligned to unknown axis {a.aligned!r}")
+        for key in a.live_keys:
+            held = spec.quantity.get(key)
+            if held is None or held.is_series or held.items or not held.discrete:
+                raise SpecError(spec.file, a.key, f"an item's name holds {{{key}}}: it must "
+                                "be a result of one whole number (a discrete scalar)")
         if a.size_calc is None and not spec.item_parameters(a.key):
             raise SpecError(spec.file, a.key, "an axis needs per-item parameters or a size_calc")
     for column in spec.table_column.values():

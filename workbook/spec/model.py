@@ -110,6 +110,15 @@ class Axis:
     item_names_zh: tuple = ()
     item_names_en: tuple = ()
 
+    @property
+    def live_keys(self):
+        """The results its items' names hold: "Main bearing {checked_journal}" (the
+        writer makes such a name a live text formula; crankbook.writer.live_text)."""
+        names = self.item_names_zh + self.item_names_en
+        return tuple(dict.fromkeys(node.key for name in names
+                                   for node in placeholders.parse(name)
+                                   if isinstance(node, placeholders.Ref)))
+
     def label(self, lang, number, value=None):
         """"Cylinder 3", for an axis named by values "k = 2" / "2 阶", for an axis
         named by words its item's name."""

@@ -8,6 +8,7 @@ import numpy as np
 from xlsxwriter.utility import xl_range_abs, xl_rowcol_to_cell
 
 from crankbook.spec.formulas import quote_sheet
+from crankbook.writer import live_text
 from crankbook.writer.layout import FIRST_ROW, label, unit_text
 
 COLOURS = ["#1F77B4", "#D62728", "#2CA02C", "#FF7F0E", "#9467BD", "#8C564B", "#E377C2",
@@ -141,23 +142,39 @@ def _names_block(layout, sheet_spec, chart_spec):
     for other in sheet_spec.charts:
         if other is chart_spec:
             return row, col
-        if other.live_names:
+        if live_legend(layout, other):
             row += 2 + sum(len(_ranges(layout, key, chart_spec=other)) for key in other.y)
     raise ValueError(f"chart of {sheet_spec.key!r} is not on its sheet")
 
 
-def _live_name(ws, layout, sheet, cell, name, values, y):
-    """A series name that is a formula in ``cell``: the curve's name, or with NO_CURVE
-    while its column holds no number; returns the series' name options (the cached
-    text is the formula's result for ``y``)."""
-    none = name + NO_CURVE[layout.lang]
-    cached = name if np.isfinite(y).any() else none
+def live_legend(layout, chart_spec):
+    """Whether a chart's legend names are formulas in cells beside it: asked for
+    (``live_names``), or a curve is an item whose name holds a result ("Main bearing
+    {checked_journal}", crankbook.writer.live_text)."""
+    if chart_spec.live_names:
+        return True
+    spec = layout.spec
+    return any(spec.quantity[key].items and spec.axis[spec.quantity[key].items].live_keys
+               for key in chart_spec.y if key in spec.quantity)
+
+
+def _live_name(ws, layout, sheet, cell, name, values, y, none_when_blank):
+    """A series name that is a formula in ``cell``: the curve's name (live where it
+    holds a result), with NO_CURVE while its column holds no number when
+    ``none_when_blank``; returns the series' name options (the cached text is the
+    formula's result for ``y``)."""
+    named = live_text.expression(name, layout)
+    text = live_text.cached(name, layout)
+    if none_when_blank:
+        none = f"{named}&{live_text.quoted(NO_CURVE[layout.lang])}"
+        formula = f"=IF(COUNT({values})=0,{none},{named})"
+        text = text if np.isfinite(y).any() else text + NO_CURVE[layout.lang]
+    else:
+        formula = "=" + named
     if ws is not None:
-        quoted = lambda text: '"' + text.replace('"', '""') + '"'
-        ws.write_formula(*cell, f"=IF(COUNT({values})=0,{quoted(none)},{quoted(name)})", None,
-                         cached)
+        ws.write_formula(*cell, formula, None, text)
     return {"name": f"={quote_sheet(sheet)}!{xl_rowcol_to_cell(*cell, True, True)}",
-            "name_data": [cached]}
+            "name_data": [text]}
 
 
 def write_frame(ws, layout, sheet_spec, chart_spec, x_ranges, y_ranges, frame, styles):
@@ -277,7 +294,8 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
                 f"$A${layout.last_row(sheet_spec.grid) + 1}")]
     curves, xs, ys, used_x, used_y = 0, [], [], [], []
     unnamed = []                       # curves the legend leaves out (emphasis below 2)
-    if chart_spec.live_names:
+    live = live_legend(layout, chart_spec)
+    if live:
         names_row, names_col = _names_block(layout, sheet_spec, chart_spec)
         if ws is not None:
             ws.write(names_row, names_col, LEGEND_LABEL[lang], styles.subtitle)
@@ -300,9 +318,9 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
             x = x if x_column is None else x[:, index]
             series = {"name": name, "categories": x_range, "values": values,
                       "values_data": _cache(y_source, y_column)}
-            if chart_spec.live_names:
+            if live:
                 series.update(_live_name(ws, layout, sheet, (names_row + 1 + curves, names_col),
-                                         name, values, y))
+                                         name, values, y, chart_spec.live_names))
             if x.size == y.size:
                 series["categories_data"] = _cache(x_source, x_column)
             colour = COLOURS[curves % len(COLOURS)]

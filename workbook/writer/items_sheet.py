@@ -3,6 +3,7 @@ inputs (yellow, validated) and the per-item results and checks."""
 import math
 
 from crankbook.writer.charts import add_chart
+from crankbook.writer import live_text
 from crankbook.writer.layout import FIRST_ROW, label
 from crankbook.writer.parameters_sheet import input_cell, validation
 from crankbook.writer.print_setup import (format_words_width, key_width, landscape_page,
@@ -23,7 +24,8 @@ def write_items_sheet(book, plan, layout, values, results, styles):
                    [layout.places[q.key].col for q in plan.columns] + [0])
     item_values = results[axis.value_key] if axis.value_key in results else [None] * count
     labels = [axis.label(layout.lang, i + 1, item_values[i]) for i in range(count)]
-    widths = [key_width(labels, 12)] + [COLUMN_WIDTH] * last_col
+    widths = [key_width([live_text.cached(text, layout) for text in labels], 12)] + \
+        [COLUMN_WIDTH] * last_col
     folded = {layout.places[q.key].col for q in plan.columns if q.fold}
     pages_wide = math.ceil(sum(w * 7 + 5 for c, w in enumerate(widths) if c not in folded)
                            / PAGE_PIXELS)
@@ -41,7 +43,7 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     headers(ws, 0, (label(axis, layout.lang), label(axis, layout.other)), "-", layout, styles,
             width=widths[0])
     for i, text in enumerate(labels):
-        ws.write(FIRST_ROW + i, 0, text, styles.key)
+        live_text.write_text(ws, FIRST_ROW + i, 0, text, styles.key, layout)
     for parameter in plan.inputs:
         col = layout.places[parameter.key].col
         headers(ws, col, (label(parameter, layout.lang), label(parameter, layout.other)),

@@ -56,6 +56,10 @@ class Layout:
         self.spec = spec
         self.lang = lang
         self.other = OTHER[lang]
+        # results items' names hold ("Main bearing {checked_journal}"), and their values
+        # once the build's results are known (crankbook.writer.live_text)
+        self.live_keys = frozenset(k for a in spec.axes for k in a.live_keys)
+        self.live_values = {}
         self.axis_sizes = axis_sizes
         self.sheet_name = {key: names[lang] for key, names in FIXED_SHEETS.items()}
         for sheet in spec.sheets:

@@ -6,6 +6,7 @@ import math
 from crankbook.spec.formulas import ROW, quote_sheet
 from crankbook.writer.charts import add_chart, chart_column_width
 from crankbook.writer.fast_sheet import FastWorksheet
+from crankbook.writer import live_text
 from crankbook.writer.layout import FIRST_ROW, label, step_text, unit_text
 from crankbook.writer.print_setup import NO_PRINT, landscape_report, line_height, text_lines
 
@@ -22,15 +23,16 @@ def cached(value):
 def headers(ws, col, words, unit, layout, styles, width=COLUMN_WIDTH, row=FIRST_ROW - 3):
     """Three header rows: the label in the sheet's language, in the other, the unit
     (``fit_header_rows`` then makes the first two as tall as their longest label)."""
-    ws.write(row, col, words[0], styles.header)
-    ws.write(row + 1, col, words[1], styles.header_other)
+    live_text.write_text(ws, row, col, words[0], styles.header, layout)
+    live_text.write_text(ws, row + 1, col, words[1], styles.header_other, layout)
     ws.write(row + 2, col, f"[{unit_text(unit)}]", styles.unit)
     ws.set_column(col, col, width)
     if not hasattr(ws, "header_lines"):
         ws.header_lines = {}                # header row -> lines of its two label rows
     tallest = ws.header_lines.get(row, (3, 3))
-    ws.header_lines[row] = (max(tallest[0], text_lines(words[0], width, bold=True)),
-                            max(tallest[1], text_lines(words[1], width)))
+    ws.header_lines[row] = (max(tallest[0], text_lines(live_text.cached(words[0], layout), width,
+                                                       bold=True)),
+                            max(tallest[1], text_lines(live_text.cached(words[1], layout), width)))
 
 
 def fit_header_rows(ws, row=FIRST_ROW - 3):
