@@ -5,8 +5,8 @@ Wherever the writer prints such a name — an items sheet's row, a column's head
 chart's legend entry — it writes a text formula, ``="Main bearing
 "&IF(ISNUMBER(ref),TEXT(ref,"0"),"?")&" (engine frame)"``, cached with numpy's value,
 so the name follows the inputs in every engine as the numbers do.  The template
-language allows it for a discrete scalar (a whole number; crankbook.spec.check), and
-the same text holds the name in both languages' headers.  "?" stands where the
+language allows it for a discrete scalar (a whole number; crankbook.spec.check); a
+header's rows in both languages are such formulas alike.  "?" stands where the
 result is blank (the inputs break a rule).
 """
 import math
@@ -23,7 +23,10 @@ def _parts(text, layout):
     result."""
     if "{" not in text or not layout.live_keys:
         return None
-    nodes = placeholders.parse(text)
+    try:
+        nodes = placeholders.parse(text)
+    except placeholders.TemplateSyntaxError:    # a label's own braces: plain words
+        return None
     if not any(isinstance(n, placeholders.Ref) and n.key in layout.live_keys for n in nodes):
         return None
     return [(None, n.key) if isinstance(n, placeholders.Ref) else (n, None) for n in nodes]
