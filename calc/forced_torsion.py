@@ -30,6 +30,12 @@ Den Hartog, J. P., *Mechanical Vibrations*, 4th ed., McGraw-Hill, 1956: §3.3 (t
 damped vibration absorber: the tuned optimum f = 1/(1 + μ), ζ = √(3μ/(8(1 + μ)³))),
 §5.6 (Holzer), §5.9 (the untuned viscous damper: ζ_opt = 1/√(2(1 + μ)(2 + μ)), the
 peak 1 + 2/μ).
+Mendes, A. S., Meirelles, P. S. and Zampieri, D. E., "Analysis of torsional vibration
+in internal combustion engines: modelling and experimental validation", Proc. IMechE
+Part K 222 (2008) 155–178: an MWM six-cylinder diesel whose Fig. 31 (the flywheel
+section's vibratory torque against speed) the tests reproduce through this module,
+with the model, damping and digitised curves of the openTorsion project's
+reproduction (tests/data/mendes_2008.toml).
 IACS UR M68, "Dimensions of propulsion shafts and their permissible torsional
 vibration stresses", Rev. 2, 2005: τ_C = ±(σ_B + 160)/18·C_K·C_D·(3 − 2λ²) for
 λ < 0.9, ·1.38 for 0.9 ≤ λ ≤ 1.05, τ_T = 1.7·τ_C/√C_K, C_D = 0.35 + 0.93·d^−0.2.
