@@ -2,8 +2,8 @@
 inputs (yellow, validated) and the per-item results and checks."""
 import math
 
-from crankbook.writer.charts import add_chart
 from crankbook.writer import live_text
+from crankbook.writer.charts import add_chart
 from crankbook.writer.layout import FIRST_ROW, label
 from crankbook.writer.parameters_sheet import input_cell, validation
 from crankbook.writer.print_setup import (format_words_width, key_width, landscape_page,

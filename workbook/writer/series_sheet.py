@@ -4,9 +4,9 @@ import math
 
 
 from crankbook.spec.formulas import ROW, quote_sheet
+from crankbook.writer import live_text
 from crankbook.writer.charts import add_chart, chart_column_width
 from crankbook.writer.fast_sheet import FastWorksheet
-from crankbook.writer import live_text
 from crankbook.writer.layout import FIRST_ROW, label, step_text, unit_text
 from crankbook.writer.print_setup import NO_PRINT, landscape_report, line_height, text_lines
 
