@@ -161,9 +161,9 @@ def flywheel_implausible(station_inertia, bore):
     crank throws' together — no flywheel is lighter than the crank it steadies — or
     above a solid steel disc four bores across and a bore thick
     (7850·π/4·(4D)²·D·(4D)²/8 = 7850·8π·D⁵): a flywheel sized at a low p_speed (it
-    grows as 1/n²), or a slip in the typed value.  A truck diesel's flywheel with its
-    clutch reaches 1.6 times the half as thick disc (Mendes et al. 2008: 2.075 kg·m²
-    on a 105 mm bore, tests/data/mendes_2008.toml), so a real engine passes."""
+    grows as 1/n²), or a slip in the typed value.  A truck diesel's flywheel station
+    reaches 1.6 times the half as thick disc (Mendes et al. 2008: 2.075 kg·m² on a
+    105 mm bore, tests/data/mendes_2008.toml), so a real engine passes."""
     inertia = np.asarray(station_inertia, dtype=float)
     flywheel, throws = inertia[-1], inertia[1:-1].sum()
     return _flag((flywheel < throws) | (flywheel > STEEL_DENSITY * 8 * np.pi * bore ** 5))
