@@ -472,3 +472,15 @@ def test_an_item_name_holds_only_a_whole_number_result(held, words):
                      "item_names_en": [f"Bearing {{{held}}}"]}]
     with pytest.raises(SpecError, match=f"check: an item's name {re.escape(words)}"):
         from_data(data)
+
+
+def test_a_long_label_is_cut_into_excels_string_constants():
+    """A name that holds a result is a text formula; Excel refuses a string constant
+    over 255 characters, so a long label is written as pieces joined by &."""
+    from crankbook.writer import live_text
+    text = 'Bearing "A" ' + "x" * 600
+    formula = live_text.quoted(text)
+    constants = re.findall(r'"((?:[^"]|"")*)"', formula)
+    assert all(len(c.replace('""', '"')) <= 255 for c in constants)
+    assert "".join(c.replace('""', '"') for c in constants) == text
+    assert live_text.quoted("") == '""'

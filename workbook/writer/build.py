@@ -92,8 +92,7 @@ def write_workbook(build, lang, path):
     grid_sizes = {g.key: len(build.results[g.key]) for g in spec.grids}
     lengths = {t.key: max(len(build.tables.get(c.key, [])) for c in t.columns)
                for t in spec.input_tables}
-    layout = Layout(spec, lang, grid_sizes, build.axis_sizes, lengths)
-    layout.live_values = {key: build.results[key] for key in layout.live_keys}
+    layout = Layout(spec, lang, grid_sizes, build.axis_sizes, lengths, build.results)
     try:
         with atomic_path(path) as temporary, _no_cycle_collection():
             _write(build, layout, temporary)

@@ -51,15 +51,17 @@ class ItemsPlan:
 
 
 class Layout:
-    def __init__(self, spec, lang, grid_sizes, axis_sizes, table_lengths=None):
-        """``grid_sizes``: grid key -> rows; ``axis_sizes``: axis key -> items."""
+    def __init__(self, spec, lang, grid_sizes, axis_sizes, table_lengths=None, results=None):
+        """``grid_sizes``: grid key -> rows; ``axis_sizes``: axis key -> items;
+        ``results``: the build's, for the names that hold one."""
         self.spec = spec
         self.lang = lang
         self.other = OTHER[lang]
         # results items' names hold ("Main bearing {checked_journal}"), and their values
         # once the build's results are known (crankbook.writer.live_text)
         self.live_keys = frozenset(k for a in spec.axes for k in a.live_keys)
-        self.live_values = {}
+        self.live_values = {} if results is None else \
+            {key: results[key] for key in self.live_keys}
         self.axis_sizes = axis_sizes
         self.sheet_name = {key: names[lang] for key, names in FIXED_SHEETS.items()}
         for sheet in spec.sheets:

@@ -66,8 +66,15 @@ def expression(text, layout):
     return "&".join(pieces)
 
 
+EXCEL_TEXT_CONSTANT = 255         # characters: Excel refuses a longer string in a formula
+
+
 def quoted(text):
-    return '"' + text.replace('"', '""') + '"'
+    """``text`` as a formula's string constant: pieces of at most 255 characters
+    joined by & (a longer label would make Excel drop the formula), quotes doubled."""
+    pieces = [text[i:i + EXCEL_TEXT_CONSTANT]
+              for i in range(0, len(text), EXCEL_TEXT_CONSTANT)] or [""]
+    return "&".join('"' + piece.replace('"', '""') + '"' for piece in pieces)
 
 
 def write_text(ws, row, col, text, style, layout):
