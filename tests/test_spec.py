@@ -458,6 +458,39 @@ def test_item_names_come_in_both_languages():
         from_data(data)
 
 
+@pytest.mark.parametrize("zh,en", [
+    (["前端", "曲拐 {each}", "{each}"], ["Front", "Throw {each}", "{each}"]),   # two runs
+    (["前端", "曲拐 {each}", "飞轮"], ["Front {each}", "Throw", "Flywheel"]),    # misplaced
+    (["前端", "曲拐", "飞轮"], ["Front", "Throw {each}", "Flywheel"]),           # one language
+])
+def test_a_repeated_item_name_is_one_entry_in_both_languages(zh, en):
+    data = _minimal()
+    data["axis"] = [{"key": "station", "zh": "质量", "en": "Stations", "size_calc":
+                     "calc.torsional.station_count", "size_args": {"throw": "throw"},
+                     "item_names_zh": zh, "item_names_en": en}]
+    with pytest.raises(SpecError, match=r"station: item names hold \{each\} in one entry"):
+        from_data(data)
+
+
+def test_a_repeated_item_name_fills_the_items_the_fixed_names_leave():
+    """"Throw {each}" stands for every item between the front and the flywheel, counted
+    from 1 in it, for any size; a size with no room for the fixed names names nothing."""
+    from crankbook.spec.model import Axis
+    axis = Axis(key="station", zh="质量", en="Stations", label_zh="质量", label_en="Station",
+                item_names_zh=("前端", "曲拐 {each}", "飞轮"),
+                item_names_en=("Front", "Throw {each}", "Flywheel"))
+    for throws in (1, 2, 5):
+        names = axis.names("en", throws + 2)
+        assert names == ("Front", *(f"Throw {k}" for k in range(1, throws + 1)), "Flywheel")
+        assert [axis.label("en", i + 1, size=throws + 2) for i in range(throws + 2)] == \
+            list(names)
+    assert axis.names("zh", 3) == ("前端", "曲拐 1", "飞轮")
+    assert axis.names("en", 2) == ("Front", "Flywheel")         # no throw: the run is empty
+    assert axis.names("en", 1) == ()
+    assert axis.label("en", 2) == "Station 2"                   # no size: the axis's label
+    assert axis.live_keys == ()                                 # {each} holds no result
+
+
 @pytest.mark.parametrize("held,words", [
     ("nope", "holds {nope}: it must be a result of one whole number"),
     ("x", "holds {x}: it must be a result of one whole number"),          # a series

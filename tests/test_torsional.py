@@ -87,6 +87,38 @@ def test_carter_length_scales_with_the_crank_and_reduces_to_a_plain_shaft():
     assert k == pytest.approx(80e9 * np.pi * 0.06 ** 4 / 32 / base, rel=1e-12)
 
 
+@pytest.mark.parametrize("preset", ["inline-4", "v8-crossplane"])
+def test_stations_sections_and_orders_are_named_for_what_they_are(tmp_path, preset):
+    """An engineer reads "the stress peaks in section 6": the stations are named front,
+    throw by throw, flywheel (as many throws as the layout has), each section by the
+    main journal it holds (as many as the main-bearing sheet's journals), and a column
+    of torque order k says k — the order's value, not its place in the list (order 0.5
+    is the first)."""
+    import zipfile
+
+    import openpyxl
+    from crankbook import compute
+    result = compute(preset, step=30)
+    path = result.to_excel(tmp_path / "engine.xlsx", lang="en")
+    book = openpyxl.load_workbook(path)
+    throws = int(max(result.values["throw"]))
+    stations = [c.value for c in book["Torsional stations"]["A"][5:] if c.value]
+    assert stations == ["Front pulley/damper", *(f"Throw {k}" for k in range(1, throws + 1)),
+                        "Flywheel"]
+    journals = [c.value for c in book["Main bearings"]["A"][5:] if c.value]
+    sections = [c.value for c in book["Section stresses"]["A"][5:] if c.value]
+    assert len(sections) == len(journals) == throws + 1
+    assert sections == [f"Section {j.split()[-1]} (journal {j.split()[-1]})" for j in journals]
+    with zipfile.ZipFile(path) as z:                    # … and so do the charts' legends
+        charts = "".join(z.read(n).decode() for n in z.namelist() if "charts/chart" in n)
+    assert all(charts.count(f">{name}<") >= 2 for name in sections)     # torque, stress
+    orders = np.ravel(result.results["torque_order"])
+    headers = [c.value for c in book["Torsional stress"][3]
+               if isinstance(c.value, str) and c.value.startswith("Front amplitude (per order)")]
+    assert [h.rsplit("k = ", 1)[1] for h in headers] == [f"{k:g}" for k in orders]
+    assert orders[0] == 0.5
+
+
 @pytest.mark.parametrize("preset,major", [("inline-4", 2.0), ("inline-6", 3.0),
                                           ("v8-crossplane", 4.0)])
 def test_the_firing_order_excites_its_major_orders(preset, major):

@@ -12,8 +12,8 @@ from crankbook.spec.repeat import expanded
 
 from crankbook.support import resources
 from crankbook.errors import SpecError, UnknownPresetError
-from crankbook.spec.model import (EXTREME_TOLERANCE, Axis, Chart, Constant, InputColumn, InputTable,
-                            Parameter, Quantity, Sheet, WorkbookSpec)
+from crankbook.spec.model import (EACH, EXTREME_TOLERANCE, Axis, Chart, Constant, InputColumn,
+                                  InputTable, Parameter, Quantity, Sheet, WorkbookSpec)
 from crankbook.spec.check import check
 
 LIST_SECTIONS = ("parameter", "axis", "constant", "input_table", "rule", "rulebook", "scalar",
@@ -383,6 +383,11 @@ def build(data, file):
         if len(a.item_names_zh) != len(a.item_names_en):
             raise SpecError(file, a.key, "item_names_zh and item_names_en must name the same "
                             "items")
+        runs = [[i for i, name in enumerate(names) if EACH in name]
+                for names in (a.item_names_zh, a.item_names_en)]
+        if len(runs[0]) > 1 or runs[0] != runs[1]:
+            raise SpecError(file, a.key, f"item names hold {EACH} in one entry, the same in "
+                            "both languages (it repeats for the items the others leave)")
     constants = [Constant(key=c["key"], unit=c["unit"], value=float(c["value"]),
                           zh=c.get("zh", ""), en=c.get("en", "")) for c in data["constant"]]
     if cycle is not None:
@@ -441,6 +446,8 @@ def build(data, file):
                             title_zh=s.get("title_zh", s["zh"]), title_en=s.get("title_en", s["en"]),
                             kind=kind, columns=columns, charts=tuple(charts), grid=grid,
                             axis=s.get("axis"), print_step=s.get("print_step"),
+                            item_word={lang: s[f"item_word_{lang}"] for lang in ("zh", "en")
+                                       if f"item_word_{lang}" in s},
                             report=tuple(s["report"]) if "report" in s else None))
     scalars = [_quantity(_resolve_args(e), "scalar") for e in scalar_entries]
     results = [_quantity(r, "result") for r in data["result"]]

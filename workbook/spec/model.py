@@ -16,6 +16,8 @@ from crankbook.spec import placeholders
 # where the series comes within this fraction of its peak |value| of its extreme.
 from crankbook.calc.cycle import EXTREME_TOLERANCE  # noqa: E402,F401  (re-exported)
 GUARD = "inputs_valid"            # every guarded formula is IF(q_inputs_valid=1, …, "")
+# an axis's item name that repeats for the items its fixed names leave ("Throw {each}")
+EACH = "{each}"
 
 
 @lru_cache(maxsize=None)
@@ -116,19 +118,45 @@ class Axis:
         writer makes such a name a live text formula; crankbook.writer.live_text)."""
         names = self.item_names_zh + self.item_names_en
         return tuple(dict.fromkeys(node.key for name in names
-                                   for node in placeholders.parse(name)
+                                   for node in placeholders.parse(name.replace(EACH, ""))
                                    if isinstance(node, placeholders.Ref)))
 
-    def label(self, lang, number, value=None):
+    def names(self, lang, size):
+        """The items' names as laid out for ``size`` items.  The one entry holding
+        ``{each}`` stands for every item the fixed names before and after it leave,
+        numbered 1, 2, … in it: ["Front", "Throw {each}", "Flywheel"] names five
+        stations Front, Throw 1 … Throw 3, Flywheel.  () when the items are not named
+        by words, or when ``size`` leaves no room for the fixed names."""
+        names = list(self.item_names_zh if lang == "zh" else self.item_names_en)
+        runs = [i for i, name in enumerate(names) if EACH in name]
+        if not runs:
+            return tuple(names)
+        i = runs[0]
+        count = size - (len(names) - 1)
+        if count < 0:
+            return ()
+        return tuple(names[:i] + [names[i].replace(EACH, str(k)) for k in range(1, count + 1)]
+                     + names[i + 1:])
+
+    def label(self, lang, number, value=None, size=None):
         """"Cylinder 3", for an axis named by values "k = 2" / "2 阶", for an axis
-        named by words its item's name."""
+        named by words its item's name (an axis with an ``{each}`` run only when its
+        ``size`` is given)."""
         names = self.item_names_zh if lang == "zh" else self.item_names_en
+        if any(EACH in name for name in names):
+            names = self.names(lang, size) if size is not None else ()
         if names and 1 <= number <= len(names):
             return names[number - 1]
         if self.value_key and value is not None:
             pattern = self.value_label_zh if lang == "zh" else self.value_label_en
             return pattern.format(value=value)
         return f"{self.label_zh if lang == 'zh' else self.label_en} {number}"
+
+
+def worded(word, item):
+    """An ``item_word`` naming item ``item``: "Mode 2", or the word with ``{item}`` in it
+    at each place: "Section {item} (main journal {item})" → "Section 2 (main journal 2)"."""
+    return word.replace("{item}", str(item)) if "{item}" in word else f"{word} {item}"
 
 
 @dataclass(frozen=True)
@@ -290,6 +318,8 @@ class Sheet:
     charts: tuple = ()
     grid: str | None = None       # series sheets: their grid
     axis: str | None = None       # items sheets: their axis
+    item_word: dict = field(default_factory=dict)  # items sheets: names the rows instead
+                                                   # of the axis' label (model.worded)
     print_step: float | None = None  # print every k-th row so a report stays short
     report: tuple | None = None   # series sheets: the columns the results table prints
                                   # (None: the columns its charts plot)

@@ -8,6 +8,7 @@ import numpy as np
 from xlsxwriter.utility import xl_range_abs, xl_rowcol_to_cell
 
 from crankbook.spec.formulas import quote_sheet
+from crankbook.spec.model import worded
 from crankbook.writer import live_text
 from crankbook.writer.layout import FIRST_ROW, label, unit_text
 
@@ -37,8 +38,9 @@ def _ranges(layout, key, short=False, chart_spec=None, results=None, skip=0):
     curve = chart_spec and (chart_spec.curve_zh if layout.lang == "zh" else chart_spec.curve_en)
     axis = spec.axis[quantity.items]
     named_by = axis.value_key if results is not None and axis.value_key in results else None
-    words = [f"{curve} {i + 1}" if curve else
-             axis.label(layout.lang, i + 1, float(np.ravel(results[named_by])[i])) if named_by
+    words = [worded(curve, i + 1) if curve else
+             axis.label(layout.lang, i + 1, float(np.ravel(results[named_by])[i]),
+                        size=place.count) if named_by
              else layout.item_label(quantity.items, layout.lang, i + 1, quantity.item_word)
              for i in range(count)]
     first = layout.locator.grid_rows[place.grid][0] + skip

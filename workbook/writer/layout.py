@@ -5,8 +5,10 @@ to any key; each sheet writer then fills the places it is given.
 """
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from crankbook.spec.formulas import Locator, Place
-from crankbook.spec.model import GUARD
+from crankbook.spec.model import GUARD, worded
 
 FIRST_ROW = 5            # 0-based row of the first grid point / item on series and items sheets
 SCALAR_FIRST_ROW = 4     # first value row of a scalars sheet
@@ -62,6 +64,10 @@ class Layout:
         self.live_keys = frozenset(k for a in spec.axes for k in a.live_keys)
         self.live_values = {} if results is None else \
             {key: results[key] for key in self.live_keys}
+        # the values that name a value-named axis's items ("0.5 阶", not "谐次 1")
+        self.item_values = {} if results is None else \
+            {a.key: np.ravel(np.asarray(results[a.value_key], dtype=float))
+             for a in spec.axes if a.value_key and a.value_key in results}
         self.axis_sizes = axis_sizes
         self.sheet_name = {key: names[lang] for key, names in FIXED_SHEETS.items()}
         for sheet in spec.sheets:
@@ -95,14 +101,18 @@ class Layout:
         ``item_word``) names the item instead of the axis' label: 'Mode 2'."""
         axis = self.spec.axis[axis_key]
         if word and lang in word:
-            return f"{word[lang]} {item}"
+            return worded(word[lang], item)
         if not axis.product:
-            return axis.label(lang, item)
+            values = self.item_values.get(axis_key, ())
+            value = float(values[item - 1]) if item <= len(values) else None
+            return axis.label(lang, item, value if value is not None and np.isfinite(value)
+                              else None, size=self.axis_sizes.get(axis_key))
         first, second = axis.product
         size = self.axis_sizes[first]
-        words = [self.spec.axis[first].label(lang, (item - 1) % size + 1)]
+        words = [self.spec.axis[first].label(lang, (item - 1) % size + 1, size=size)]
         if self.axis_sizes[second] > 1:
-            words.append(self.spec.axis[second].label(lang, (item - 1) // size + 1))
+            words.append(self.spec.axis[second].label(lang, (item - 1) // size + 1,
+                                                      size=self.axis_sizes[second]))
         return " · ".join(words)
 
     def series_template(self, quantity, sheet_name, item=None, first=False):
