@@ -91,6 +91,29 @@ def test_read_gives_back_what_compute_wrote(tmp_path, thesis):
     pd.testing.assert_frame_equal(back.series(), thesis.series())
 
 
+def test_read_says_when_the_stored_results_are_not_the_inputs(tmp_path):
+    """An input typed with calculation set to manual (or by a script) leaves the old
+    results in the file: read gives them as stored, and warns in one line naming the
+    first result the inputs no longer give; the untouched file reads without a word."""
+    import warnings
+    from crankbook.errors import StaleWorkbookWarning
+    from tests.conftest import edit_cells
+    path = crankbook.compute("thesis", step=6).to_excel(tmp_path / "thesis.xlsx")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", crankbook.CrankbookWarning)
+        stored = crankbook.read(path)
+    edit_cells(path, tmp_path / "manual.xlsx", {"speed": 3000.0})
+    with pytest.warns(StaleWorkbookWarning, match="no longer give .*recalculate=True") as said:
+        manual = crankbook.read(tmp_path / "manual.xlsx")
+    name = said[0].message.name
+    assert name.startswith("q_") and name in str(said[0].message)
+    # the warning is about what was read: the old speed's results under the new input
+    assert manual.parameters["speed"] == 3000.0
+    assert manual.scalars["mean_torque"] == stored.scalars["mean_torque"]
+    fresh = crankbook.compute("thesis", step=6, speed=3000.0)
+    assert fresh.results[name[2:]] != pytest.approx(manual.results[name[2:]])
+
+
 def test_a_workbook_from_before_an_input_existed_reads_with_its_default(tmp_path):
     """A workbook written by an earlier crankbook lacks the inputs added since: read
     takes their defaults (the behaviour the earlier version computed), per-item ones

@@ -447,8 +447,7 @@ def _stored_results(path, progress):
     save) or holds results its own inputs no longer give (edited with calculation set
     to manual): an export of NaN, or of another input's results, is no export."""
     import crankbook
-    from crankbook.errors import UncalculatedWorkbookWarning
-    from crankbook.reading.verification import stale_result
+    from crankbook.errors import StaleWorkbookWarning, UncalculatedWorkbookWarning
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         results = crankbook.read(path)
@@ -456,14 +455,13 @@ def _stored_results(path, progress):
     for said in caught:
         if issubclass(said.category, UncalculatedWorkbookWarning):
             reason = "was saved without calculated values"
+        elif issubclass(said.category, StaleWorkbookWarning):
+            reason = (f"holds results its inputs no longer give ({said.message.name}: "
+                      f"changed without recalculating?)")
         else:
             warnings.warn_explicit(said.message, said.category, said.filename, said.lineno)
     if reason is None:
-        stale = stale_result(path)
-        if stale is None:
-            return results
-        reason = (f"holds results its inputs no longer give ({stale}: changed without "
-                  f"recalculating?)")
+        return results
     print(f"{path} {reason}: recalculated in LibreOffice first")
     return crankbook.read(path, recalculate=True, progress=progress)
 

@@ -26,6 +26,17 @@ class UncalculatedWorkbookWarning(CrankbookWarning):
     recalculate such a file in LibreOffice instead."""
 
 
+class StaleWorkbookWarning(CrankbookWarning):
+    """A workbook whose stored results its own inputs no longer give (an input typed
+    with calculation set to manual, or by a script), read as it is.  ``read`` names the
+    first such result (``name``, "q_torque"); ``read(recalculate=True)`` and ``export``
+    recalculate instead."""
+
+    def __init__(self, message, name=None):
+        super().__init__(message)
+        self.name = name
+
+
 class UnknownPresetError(CrankbookError):
     """A preset or workbook template name that does not exist."""
 

@@ -70,8 +70,17 @@ def stale_result(path):
     no recalculation, numpy against the file as saved.  A file whose inputs break a
     rule gives None: its results are blank by design, and what reads them says so."""
     named = load_named(path)
+    _, _, cached, _ = _loaded(path, named)
+    return first_stale(named, cached)
+
+
+def first_stale(named, cached):
+    """``stale_result`` for a workbook already loaded (``load_named``) and its stored
+    q_ values (``read_results``): what ``read`` checks without a second load."""
     book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
-    _, _, cached, (expected, floors) = _loaded(path, named)
+    if not cached:
+        return None
+    expected, floors = expected_values(spec, values, tables, grids, layout=grid_rows)
     if expected is None:
         return None
     for comparison in compare(spec, expected, cached, floors):

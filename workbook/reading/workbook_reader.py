@@ -12,7 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from crankbook.errors import CrankbookError, UncalculatedWorkbookWarning, WorkbookReadError
+from crankbook.errors import (CrankbookError, StaleWorkbookWarning, UncalculatedWorkbookWarning,
+                              WorkbookReadError)
 from crankbook.spec.evaluate import MAX_ROWS
 from crankbook.reading.xlsx_reader import RECALCULATED_SCALE, Unreadable, XlsxBook
 from crankbook.spec.loader import load as load_spec, template_names
@@ -331,14 +332,25 @@ def stored_results(path, computed=None):
     computed for it. A file saved without calculated values (openpyxl writes formulas
     only) and read as it is reads as NaN: a CrankbookWarning says so in one line."""
     from crankbook.reading.compare import as_array
-    book, spec, template, ranges, values, tables, grids, sizes, grid_rows = load_named(path)
-    if computed is None and saved_without_values(book, spec, ranges):
+    named = load_named(path)
+    book, spec, template, ranges, values, tables, grids, sizes, grid_rows = named
+    uncalculated = computed is None and saved_without_values(book, spec, ranges)
+    if uncalculated:
         warnings.warn(f"{Path(path).name} holds no calculated values (saved by a program "
                       f"that does not calculate, such as openpyxl): its q_ values read as NaN; "
                       f"read it with recalculate=True", UncalculatedWorkbookWarning,
                       stacklevel=2)
     stored = read_results(book if computed is None else computed, spec, ranges, path, sizes,
                           grid_rows)
+    if computed is None and not uncalculated:
+        # results read as stored must be the file's own inputs' (numpy's, 0.4 s of a read)
+        from crankbook.reading.verification import first_stale
+        stale = first_stale(named, stored)
+        if stale is not None:
+            warnings.warn(StaleWorkbookWarning(
+                f"{Path(path).name} holds results its inputs no longer give ({stale}: an "
+                f"input changed without recalculating?): read it with recalculate=True",
+                stale), stacklevel=2)
     results = {}
     for q in spec.quantities():
         raw = stored.get(f"q_{q.key}")
