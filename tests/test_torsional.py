@@ -377,7 +377,7 @@ def test_thomsons_holzer_table_row_by_row():
 def test_a_modes_columns_are_headed_by_the_mode(tmp_path):
     """The sections and modes share one count; a critical speed, a vector sum or a mode
     shape belongs to a mode, and its header and legend say so ("Mode 2"), never
-    "Section / mode 2"."""
+    "Section / mode 2"; the shared rows say both."""
     import openpyxl
     from crankbook import compute
     path = compute("inline-4", step=30).to_excel(tmp_path / "i4.xlsx", lang="en")
@@ -388,7 +388,7 @@ def test_a_modes_columns_are_headed_by_the_mode(tmp_path):
     assert headers and all(h.rsplit(" — ", 1)[1].startswith(("Mode ", "振型 "))
                            for h in headers)           # the header's two languages
     rows = [c.value for c in book["Sections, frequencies"]["A"] if isinstance(c.value, str)]
-    assert "Section / mode 1" in rows            # the shared rows keep the shared label
+    assert "Section 1 (journal 1) / mode 1" in rows     # the shared rows name both
 
 
 @pytest.mark.parametrize("preset,major", [("inline-4", 2.0), ("inline-6", 3.0),
