@@ -19,11 +19,11 @@ MUTED = "#A6A6A6"          # an emphasis below 2: a grey line behind the bold on
 GRIDLINES = {"visible": True, "line": {"color": "#D9D9D9"}}
 
 
-def _ranges(layout, key, short=False, chart_spec=None, results=None, skip=0):
+def _ranges(layout, key, short=False, chart_spec=None, skip=0):
     """(name, range) of each curve of a series: one, or one per item (named by the item
     alone when ``short``: the curves of a polar diagram; "<curve> n" where the chart
     names its curves, and only its first ``curves`` items; by the item's value, "k = 3",
-    where the axis is named by values and ``results`` holds them)."""
+    where the axis is named by values: Layout.item_label)."""
     spec, locator = layout.spec, layout.locator
     quantity = spec.quantity.get(key) or spec.parameter[key]
     place = layout.places[key]
@@ -36,12 +36,8 @@ def _ranges(layout, key, short=False, chart_spec=None, results=None, skip=0):
     count = place.count if chart_spec is None or chart_spec.curves is None else \
         min(place.count, chart_spec.curves)
     curve = chart_spec and (chart_spec.curve_zh if layout.lang == "zh" else chart_spec.curve_en)
-    axis = spec.axis[quantity.items]
-    named_by = axis.value_key if results is not None and axis.value_key in results else None
     words = [worded(curve, i + 1) if curve else
-             axis.label(layout.lang, i + 1, float(np.ravel(results[named_by])[i]),
-                        size=place.count) if named_by
-             else layout.item_label(quantity.items, layout.lang, i + 1, quantity.item_word)
+             layout.item_label(quantity.items, layout.lang, i + 1, quantity.item_word)
              for i in range(count)]
     first = layout.locator.grid_rows[place.grid][0] + skip
     return [(words[i] if short or curve else f"{label(quantity, layout.lang)} — {words[i]}",
@@ -308,7 +304,7 @@ def add_chart(book, chart_spec, sheet_spec, layout, results, ws=None, styles=Non
         for index, (name, values) in enumerate(_ranges(layout, key,
                                                         short=own_x,
                                                         chart_spec=chart_spec,
-                                                        results=results, skip=skip)):
+                                                        skip=skip)):
             x_range = x_ranges[index][1] if len(x_ranges) > 1 else x_ranges[0][1]
             y_source = _from_row(results[key], skip)
             y = np.asarray(y_source, dtype=float)

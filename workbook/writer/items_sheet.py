@@ -2,7 +2,6 @@
 inputs (yellow, validated) and the per-item results and checks."""
 import math
 
-from crankbook.spec.model import worded
 from crankbook.writer import live_text
 from crankbook.writer.charts import add_chart
 from crankbook.writer.layout import FIRST_ROW, label
@@ -23,9 +22,7 @@ def write_items_sheet(book, plan, layout, values, results, styles):
     ws = book.add_worksheet(name)
     last_col = max([layout.places[p.key].col for p in plan.inputs] +
                    [layout.places[q.key].col for q in plan.columns] + [0])
-    item_values = results[axis.value_key] if axis.value_key in results else [None] * count
-    labels = [worded(sheet.item_word[layout.lang], i + 1) if layout.lang in sheet.item_word
-              else axis.label(layout.lang, i + 1, item_values[i], size=count)
+    labels = [layout.item_label(sheet.axis, layout.lang, i + 1, sheet.item_word)
               for i in range(count)]
     widths = [key_width([live_text.cached(text, layout) for text in labels], 12)] + \
         [COLUMN_WIDTH] * last_col
