@@ -47,7 +47,7 @@ def answer_rows(assignment, lang, results, spec=None):
             if sheet.rows in spec.axis:            # one row per gear, mesh, …
                 count = len(np.atleast_1d(results[sheet.items[0]]))
                 rows[sheet.rows] = [assignment.row_label(sheet.rows, lang, i + 1, count)
-                                    or spec.axis[sheet.rows].label(lang, i + 1)
+                                    or spec.axis[sheet.rows].label(lang, i + 1, size=count)
                                     for i in range(count)]
     return rows
 

@@ -156,7 +156,7 @@ def _item_tables(task, name, assignment, spec, values, lang, styles, define, row
         count = len(values[inputs[0].key])
         for i in range(count):
             task.write(first + i, 0, assignment.row_label(axis.key, lang, i + 1, count)
-                       or axis.label(lang, i + 1), styles.key)
+                       or axis.label(lang, i + 1, size=count), styles.key)
             for col, parameter in enumerate(inputs, start=1):
                 task.write_number(first + i, col, float(values[parameter.key][i]))
         for col, parameter in enumerate(inputs, start=1):
