@@ -112,6 +112,12 @@ def test_read_says_when_the_stored_results_are_not_the_inputs(tmp_path):
     assert manual.scalars["mean_torque"] == stored.scalars["mean_torque"]
     fresh = crankbook.compute("thesis", step=6, speed=3000.0)
     assert fresh.results[name[2:]] != pytest.approx(manual.results[name[2:]])
+    # a rod typed too short: its sheets must be blank, yet the file says its inputs
+    # are valid and holds the old rod's results
+    edit_cells(path, tmp_path / "short.xlsx", {"rod_length": 40.0})
+    with pytest.warns(StaleWorkbookWarning) as said:
+        crankbook.read(tmp_path / "short.xlsx")
+    assert said[0].message.name == "q_inputs_valid"
 
 
 def test_a_workbook_from_before_an_input_existed_reads_with_its_default(tmp_path):
@@ -297,6 +303,14 @@ def test_an_export_never_writes_blank_or_stale_results(tmp_path, soffice):
                        rtol=1e-6, atol=1e-6)
     assert not np.allclose(orbit(tmp_path / "m.csv"), orbit(tmp_path / "stored.csv"),
                            rtol=1e-3)
+
+    # too short a rod typed with calculation set to manual: the old results are not
+    # exported; recalculated, the file is refused in one line naming the rule
+    edit_cells(path, tmp_path / "short-manual.xlsx", {"rod_length": 40.0})
+    done = run_cli("export", "bearing", tmp_path / "short-manual.xlsx", "-o",
+                   tmp_path / "sm.csv")
+    assert done.returncode == 2 and "rod too short" in done.stderr, (done.stdout, done.stderr)
+    assert not (tmp_path / "sm.csv").exists()
 
     # too short a rod, typed and saved uncalculated: recalculated, then refused
     edit_cells(path, tmp_path / "short.xlsx", {"rod_length": 40.0})

@@ -68,7 +68,8 @@ def stale_result(path):
     """The first q_ name whose stored values do not follow the workbook's own inputs
     (edited with calculation set to manual, or a script that typed an input), or None:
     no recalculation, numpy against the file as saved.  A file whose inputs break a
-    rule gives None: its results are blank by design, and what reads them says so."""
+    rule gives None when its results are blank, as they are by design (what reads them
+    says so), and q_inputs_valid when it still holds the results of valid inputs."""
     named = load_named(path)
     _, _, cached, _ = _loaded(path, named)
     return first_stale(named, cached)
@@ -82,7 +83,9 @@ def first_stale(named, cached):
         return None
     expected, floors = expected_values(spec, values, tables, grids, layout=grid_rows)
     if expected is None:
-        return None
+        # the inputs break a rule, so the sheets must be blank: a file that still says
+        # its inputs are valid holds the results of the inputs before the one typed
+        return "q_inputs_valid" if _single(book, ranges, "q_inputs_valid") == 1 else None
     for comparison in compare(spec, expected, cached, floors):
         if comparison.name in ranges and not comparison.ok:
             return comparison.name
